@@ -1,0 +1,65 @@
+/// \file direct_aligner.h
+/// \brief DirectAligner: Gauss-Newton on the height difference error between two HeightFrames.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include "dlo/core/height_frame.h"
+#include "dlo/core/rigid_transform.h"
+#include "dlo/core/stage_times.h"
+
+namespace dlo {
+
+/// Degrees of freedom estimated.
+enum class Dof {
+  k3 = 3,  ///< x, y, yaw (the paper's case); z, roll and pitch stay at the initial guess
+  k6 = 6,  ///< full SE(3): z, roll and pitch observed from the height field itself
+};
+
+/// Solver parameters (INI section [solver]).
+struct SolverParams {
+  int dof = 3;                        ///< 3 or 6
+  int max_iterations = 30;            ///< per pyramid level
+  double huber_delta = 0.10;          ///< robust kernel width on the height error, metres
+  double max_residual = 2.0;          ///< residuals beyond this (m) are outliers, weight 0
+  double min_step_translation = 1e-4; ///< convergence: translation update below this (m)
+  double min_step_rotation = 1e-5;    ///< convergence: rotation update below this (rad)
+  int min_cells = 30;                 ///< fewer usable cells than this: degenerate
+  double degeneracy_eigen_ratio = 1e-3; ///< eig_min/eig_max of the scaled Hessian below: degenerate
+  double rotation_scale = 10.0;       ///< metres; scales rotations against translations
+                                      ///< when judging conditioning
+};
+
+/// Outcome of one registration.
+struct AlignmentResult {
+  /// Pose of the current frame in the reference frame: a point p of the current scan lies at
+  /// pose * p in the reference.
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  /// Covariance of the pose, order (x, y, z, wx, wy, wz) with a left perturbation
+  /// pose = exp(xi) * estimate; unestimated directions carry the initial guess variance 1e6.
+  Matrix6d covariance = Matrix6d::Identity();
+  int iterations = 0;            ///< Gauss-Newton iterations over all levels
+  int cells = 0;                 ///< cells with a valid residual at the last iteration
+  double rms_height_error = 0.0; ///< RMS of the height error at the end, metres
+  bool converged = false;        ///< the finest level met the step criteria
+  bool degenerate = false;       ///< the Hessian was ill-conditioned or too few cells
+  StageTimes times;              ///< solve_ms only (frame build times are the frames')
+};
+
+/// Registers a current HeightFrame against a reference HeightFrame, coarse to fine.
+/// Stateless apart from its parameters: one aligner can serve many pairs.
+class DirectAligner {
+ public:
+  explicit DirectAligner(const SolverParams& params = SolverParams());
+
+  /// Pose of `current` in `reference`, starting from `initial_guess`.
+  AlignmentResult align(const HeightFrame& reference, const HeightFrame& current,
+                        const Eigen::Isometry3d& initial_guess) const;
+
+  const SolverParams& params() const { return params_; }
+
+ private:
+  SolverParams params_;
+};
+
+}  // namespace dlo

@@ -1,0 +1,53 @@
+/// \file height_frame.h
+/// \brief A scan prepared for registration: grid pyramid, gradients, samplers, selected cells.
+#pragma once
+
+#include <vector>
+
+#include "dlo/core/cell_selection.h"
+#include "dlo/core/gradient_field.h"
+#include "dlo/core/height_grid.h"
+#include "dlo/core/height_sampler.h"
+#include "dlo/core/point_cloud.h"
+#include "dlo/core/stage_times.h"
+
+namespace dlo {
+
+/// One pyramid level of a HeightFrame.
+struct FrameLevel {
+  HeightGrid grid;
+  GradientField gradients;
+  HeightSampler sampler;             ///< used when this frame is the reference
+  std::vector<SelectedCell> cells;   ///< used when this frame is the current scan
+};
+
+/// Everything registration needs from one scan, computed once: a frame serves as the current
+/// scan of one registration and as the reference of the next without recomputation.
+/// levels[0] is the finest.
+class HeightFrame {
+ public:
+  HeightFrame() = default;
+
+  /// Builds the pyramid from points (grid frame, usually the vehicle frame).
+  /// \param include_ground add low-gradient ground cells to the selection (6-DoF).
+  static HeightFrame fromPoints(const PointCloud& points, const HeightGridParams& grid,
+                                const SelectionParams& selection, bool include_ground);
+
+  /// Builds the pyramid from an existing finest-level grid.
+  static HeightFrame fromGrid(const HeightGrid& finest, int levels,
+                              const SelectionParams& selection, bool include_ground);
+
+  const std::vector<FrameLevel>& levels() const { return levels_; }
+  bool empty() const { return levels_.empty() || levels_.front().grid.validCellCount() == 0; }
+  /// Build time of this frame (grid, gradients, selection; solve_ms is zero).
+  const StageTimes& buildTimes() const { return times_; }
+
+ private:
+  void buildLevels(HeightGrid finest, int levels, const SelectionParams& selection,
+                   bool include_ground);
+
+  std::vector<FrameLevel> levels_;
+  StageTimes times_;
+};
+
+}  // namespace dlo

@@ -1,0 +1,92 @@
+/// \file height_grid.h
+/// \brief HeightGrid: the 2.5D "height image" of a scan, mean height per cell.
+#pragma once
+
+#include <cstdint>
+#include <opencv2/core/mat.hpp>
+#include <vector>
+
+#include "dlo/core/grid_geometry.h"
+#include "dlo/core/point_cloud.h"
+
+namespace dlo {
+
+/// Parameters of the finest grid level (INI section [grid]).
+struct HeightGridParams {
+  int cols = 400;            ///< cells along x (paper: 400)
+  int rows = 400;            ///< cells along y (paper: 400)
+  double resolution = 0.10;  ///< metres per cell at the finest level (paper: 0.10)
+  int min_points = 3;        ///< a cell needs at least this many points to be valid (paper: 3)
+  double min_z = -10.0;      ///< points below this height (m, grid frame) are ignored
+  double max_z = 10.0;       ///< points above this height (m, grid frame) are ignored
+  int levels = 4;            ///< pyramid levels; level k has cells 2^k times larger
+};
+
+/// One level of mean heights. Built in a single pass over the points, accumulating a count and a
+/// sum of heights per cell in flat arrays; coarser levels pool 2x2 blocks of those sums, so the
+/// mean of a coarse cell is exactly the mean of the points falling in it.
+class HeightGrid {
+ public:
+  HeightGrid() = default;
+
+  /// Rasterises `points` (grid frame) into `geometry`. Points outside the grid, outside
+  /// [min_z, max_z] or non-finite are skipped.
+  static HeightGrid fromPoints(const PointCloud& points, const GridGeometry& geometry,
+                               int min_points, double min_z, double max_z);
+
+  /// A grid from per-cell mean heights and point counts, row-major (row = y index). Used to
+  /// import grids built elsewhere, e.g. mrpt::maps::CHeightGridMap2D. A cell is valid when
+  /// count >= min_points and its height is finite.
+  static HeightGrid fromCells(const GridGeometry& geometry, const std::vector<float>& mean_heights,
+                              const std::vector<std::uint32_t>& counts, int min_points);
+
+  /// The next coarser level (cells twice as large) from pooled sums and counts.
+  HeightGrid coarser() const;
+
+  /// Fills cells without measurements from `coarser` (the next level, itself already filled),
+  /// by bilinear interpolation of its supported cells: the "pull" half of push-pull hole
+  /// filling. At 0.1 m an HDL-64 scan leaves most ground cells between rings empty, which would
+  /// mask the gradient of nearly every wall and curb; filled cells give those edges a
+  /// neighbourhood without inventing edges against "zero height". Measured cells are untouched
+  /// and remain the only ones isValid().
+  void fillHolesFrom(const HeightGrid& coarser);
+
+  const GridGeometry& geometry() const { return geometry_; }
+  int cols() const { return geometry_.cols; }
+  int rows() const { return geometry_.rows; }
+  double resolution() const { return geometry_.resolution; }
+
+  /// The cell holds at least min_points measured points.
+  bool isValid(int row, int col) const { return valid_[index(row, col)] != 0; }
+  /// The cell has a height: measured (isValid) or filled by fillHolesFrom().
+  bool hasSupport(int row, int col) const { return support_[index(row, col)] != 0; }
+  /// Height of the cell, metres: the mean of its points where isValid(), the filled estimate
+  /// where only hasSupport(); meaningless elsewhere.
+  float height(int row, int col) const { return height_[index(row, col)]; }
+  std::uint32_t count(int row, int col) const { return count_[index(row, col)]; }
+  int validCellCount() const { return valid_cells_; }
+  int minPoints() const { return min_points_; }
+
+  /// Heights as an image (CV_32F, rows x cols, row 0 = y_min); invalid cells hold NaN.
+  cv::Mat heightImage() const;
+
+  /// Raw row-major arrays, for fast loops.
+  const std::vector<float>& heights() const { return height_; }
+  const std::vector<std::uint8_t>& validMask() const { return valid_; }
+  const std::vector<std::uint8_t>& supportMask() const { return support_; }
+
+ private:
+  int index(int row, int col) const { return row * geometry_.cols + col; }
+  void finalise();
+
+  GridGeometry geometry_;
+  int min_points_ = 3;
+  int valid_cells_ = 0;
+  std::vector<std::uint32_t> count_;
+  std::vector<float> sum_z_;
+  std::vector<float> height_;
+  std::vector<std::uint8_t> valid_;
+  std::vector<std::uint8_t> support_;
+};
+
+}  // namespace dlo

@@ -1,0 +1,57 @@
+/// \file height_sampler.h
+/// \brief Bilinear interpolation of heights and gradients of a reference grid.
+#pragma once
+
+#include <vector>
+
+#include "dlo/core/gradient_field.h"
+#include "dlo/core/height_grid.h"
+
+namespace dlo {
+
+/// Height and gradient at a continuous position, from bilinear interpolation.
+struct HeightSample {
+  float h = 0.0f;   ///< metres
+  float gx = 0.0f;  ///< dH/dx, m/m
+  float gy = 0.0f;  ///< dH/dy, m/m
+};
+
+/// Reference-side lookup table: heights and gradients interleaved per cell so that one
+/// bilinear lookup touches two cache lines. Built once per reference grid.
+class HeightSampler {
+ public:
+  HeightSampler() = default;
+  HeightSampler(const HeightGrid& grid, const GradientField& gradients);
+
+  /// Samples at metric (x, y) in the grid frame. Returns false when (x, y) is outside the grid
+  /// or any of the four surrounding cells lacks a valid height or gradient.
+  bool sample(double x, double y, HeightSample& out) const {
+    const double u = (x - geometry_.x_min) * inv_resolution_ - 0.5;
+    const double v = (y - geometry_.y_min) * inv_resolution_ - 0.5;
+    if (!(u >= 0.0 && v >= 0.0 && u < geometry_.cols - 1 && v < geometry_.rows - 1)) return false;
+    const int c = static_cast<int>(u);
+    const int r = static_cast<int>(v);
+    const float a = static_cast<float>(u - c);
+    const float b = static_cast<float>(v - r);
+    const Cell* p0 = &cells_[r * geometry_.cols + c];
+    const Cell* p1 = p0 + geometry_.cols;
+    if (p0[0].ok == 0.0f || p0[1].ok == 0.0f || p1[0].ok == 0.0f || p1[1].ok == 0.0f) return false;
+    const float w00 = (1 - a) * (1 - b), w01 = a * (1 - b), w10 = (1 - a) * b, w11 = a * b;
+    out.h = w00 * p0[0].h + w01 * p0[1].h + w10 * p1[0].h + w11 * p1[1].h;
+    out.gx = w00 * p0[0].gx + w01 * p0[1].gx + w10 * p1[0].gx + w11 * p1[1].gx;
+    out.gy = w00 * p0[0].gy + w01 * p0[1].gy + w10 * p1[0].gy + w11 * p1[1].gy;
+    return true;
+  }
+
+  const GridGeometry& geometry() const { return geometry_; }
+
+ private:
+  struct Cell {
+    float h, gx, gy, ok;
+  };
+  GridGeometry geometry_;
+  double inv_resolution_ = 1.0;
+  std::vector<Cell> cells_;
+};
+
+}  // namespace dlo

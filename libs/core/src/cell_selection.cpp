@@ -1,0 +1,66 @@
+#include "dlo/core/cell_selection.h"
+
+#include <algorithm>
+
+namespace dlo {
+
+std::vector<SelectedCell> selectHighGradientCells(const HeightGrid& grid,
+                                                  const GradientField& gradients,
+                                                  const SelectionParams& params,
+                                                  bool include_ground) {
+  const GridGeometry& geo = grid.geometry();
+  const int bs = std::max(1, params.block_size);
+  const float min_sq = static_cast<float>(params.min_gradient * params.min_gradient);
+  const std::vector<std::uint8_t>& measured = grid.validMask();
+  std::vector<SelectedCell> cells;
+  cells.reserve(static_cast<size_t>(geo.cellCount() / (bs * bs) + 1));
+  auto make_cell = [&](int r, int c) {
+    return SelectedCell{static_cast<float>(geo.cellCentreX(c)),
+                        static_cast<float>(geo.cellCentreY(r)), grid.height(r, c)};
+  };
+  // The strongest gradient of each block: non-maximum suppression that spreads the selection
+  // along edges instead of piling it on the few strongest walls.
+  for (int br = 0; br < geo.rows; br += bs) {
+    for (int bc = 0; bc < geo.cols; bc += bs) {
+      float best = min_sq;
+      int best_r = -1, best_c = -1;
+      for (int r = br; r < std::min(br + bs, geo.rows); ++r) {
+        const int row = r * geo.cols;
+        for (int c = bc; c < std::min(bc + bs, geo.cols); ++c) {
+          const int i = row + c;
+          if (!gradients.valid[i] || !measured[i]) continue;
+          const float m = gradients.gx[i] * gradients.gx[i] + gradients.gy[i] * gradients.gy[i];
+          if (m >= best) {
+            best = m;
+            best_r = r;
+            best_c = c;
+          }
+        }
+      }
+      if (best_r >= 0) cells.push_back(make_cell(best_r, best_c));
+    }
+  }
+  // Even thinning: keep every k-th cell in scan order (a fractional stride), which preserves the
+  // spatial distribution, unlike keeping the strongest.
+  const size_t cap = static_cast<size_t>(std::max(0, params.max_cells));
+  if (cells.size() > cap) {
+    std::vector<SelectedCell> thinned;
+    thinned.reserve(cap);
+    const double stride = static_cast<double>(cells.size()) / static_cast<double>(cap);
+    for (size_t k = 0; k < cap; ++k) {
+      thinned.push_back(cells[static_cast<size_t>(k * stride)]);
+    }
+    cells.swap(thinned);
+  }
+  if (include_ground && params.ground_stride > 0) {
+    const int s = params.ground_stride;
+    for (int r = s / 2; r < geo.rows; r += s) {
+      for (int c = s / 2; c < geo.cols; c += s) {
+        if (grid.isValid(r, c)) cells.push_back(make_cell(r, c));
+      }
+    }
+  }
+  return cells;
+}
+
+}  // namespace dlo

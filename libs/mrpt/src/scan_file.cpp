@@ -1,0 +1,138 @@
+#include "dlo/mrpt/scan_file.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/serialization/CSerializable.h>
+
+#include "dlo/mrpt/input_error.h"
+#include "dlo/mrpt/point_conversion.h"
+
+namespace dlo {
+
+namespace {
+
+bool endsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+void requireReadable(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw InputError("cannot open scan file '" + path + "': no such file or not readable.");
+}
+
+PointCloud loadPly(const std::string& path) {
+  mrpt::maps::CSimplePointsMap map;
+  if (!map.loadFromPlyFile(path)) {
+    throw InputError("cannot read PLY file '" + path + "': " + map.getLoadPLYErrorString() + ".");
+  }
+  return toPointCloud(map);
+}
+
+/// The first point-cloud-like observation of a rawlog, reading one entry at a time.
+PointCloud loadFirstRawlogScan(const std::string& path) {
+  mrpt::io::CFileGZInputStream in;
+  if (!in.open(path)) throw InputError("cannot open rawlog '" + path + "'.");
+  auto arch = mrpt::serialization::archiveFrom(in);
+  size_t entries = 0;
+  PointCloud points;
+  for (;;) {
+    mrpt::serialization::CSerializable::Ptr obj;
+    try {
+      obj = arch.ReadObject();
+    } catch (const std::exception&) {
+      if (in.getPosition() >= in.getTotalBytesCount() || entries > 0) break;
+      throw InputError("rawlog '" + path + "' is corrupt or not an MRPT rawlog (entry " +
+                       std::to_string(entries) + " could not be read).");
+    }
+    ++entries;
+    if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj)) {
+      for (const auto& o : *sf) {
+        if (o && observationToPointCloud(*o, points) && !points.empty()) return points;
+      }
+    } else if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj)) {
+      if (observationToPointCloud(*o, points) && !points.empty()) return points;
+    }
+  }
+  throw InputError("rawlog '" + path + "' holds no point-cloud observation with points (read " +
+                   std::to_string(entries) + " entries).");
+}
+
+}  // namespace
+
+ScanFormat scanFormatFromPath(const std::string& path) {
+  const std::string p = lower(path);
+  if (endsWith(p, ".bin") || endsWith(p, ".bin.gz")) return ScanFormat::kKittiBin;
+  if (endsWith(p, ".ply")) return ScanFormat::kPly;
+  if (endsWith(p, ".rawlog") || endsWith(p, ".rawlog.gz")) return ScanFormat::kRawlog;
+  return ScanFormat::kUnknown;
+}
+
+PointCloud loadKittiBin(const std::string& path, size_t* dropped_non_finite) {
+  requireReadable(path);
+  mrpt::io::CFileGZInputStream in;
+  if (!in.open(path)) throw InputError("cannot open KITTI file '" + path + "'.");
+  std::vector<char> bytes;
+  constexpr size_t kChunk = 1 << 20;
+  for (;;) {
+    const size_t old = bytes.size();
+    bytes.resize(old + kChunk);
+    const size_t got = in.Read(bytes.data() + old, kChunk);
+    bytes.resize(old + got);
+    if (got == 0) break;
+  }
+  if (bytes.size() % 16 != 0) {
+    throw InputError("KITTI file '" + path + "' holds " + std::to_string(bytes.size()) +
+                     " bytes, not a multiple of 16 (float32 x, y, z, reflectance per point).");
+  }
+  const size_t n = bytes.size() / 16;
+  PointCloud out;
+  out.reserve(n);
+  size_t dropped = 0;
+  for (size_t i = 0; i < n; ++i) {
+    float v[4];
+    std::copy_n(bytes.data() + 16 * i, 16, reinterpret_cast<char*>(v));
+    if (std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2])) {
+      out.emplace_back(v[0], v[1], v[2]);
+    } else {
+      ++dropped;
+    }
+  }
+  if (dropped_non_finite) *dropped_non_finite = dropped;
+  return out;
+}
+
+PointCloud loadScanFile(const std::string& path) {
+  const ScanFormat format = scanFormatFromPath(path);
+  if (format == ScanFormat::kUnknown) {
+    throw InputError("unknown scan format for '" + path +
+                     "': expected .bin, .bin.gz (KITTI), .ply or .rawlog.");
+  }
+  requireReadable(path);
+  PointCloud points;
+  switch (format) {
+    case ScanFormat::kKittiBin:
+      points = loadKittiBin(path);
+      break;
+    case ScanFormat::kPly:
+      points = loadPly(path);
+      break;
+    default:
+      points = loadFirstRawlogScan(path);
+      break;
+  }
+  if (points.empty()) throw InputError("scan file '" + path + "' holds no finite points.");
+  return points;
+}
+
+}  // namespace dlo
