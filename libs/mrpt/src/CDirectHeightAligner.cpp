@@ -45,6 +45,24 @@ void report(const CDirectHeightAligner::TReturnInfo& info,
   }
 }
 
+/// The covariance of MRPT's (x, y, z, yaw, pitch, roll) for a core result.
+/// A 3-DoF solve leaves z, pitch and roll exactly at the guess (left updates by (tx, ty, wz) do
+/// not change them), but the core reports the unobserved twist directions (tz, wx, wy) with a huge
+/// variance; linearised around a pose with z != 0, a left rotation wx/wy moves x and y, so that
+/// variance would leak into x and y. Convert the observed block alone and put the unobserved
+/// variance on z, pitch and roll, where it belongs in MRPT's parameters.
+dlo::Matrix6d mrptCovariance(const dlo::AlignmentResult& r, int dof) {
+  if (dof == 6) return dlo::twistCovarianceToXYZYPR(r.pose, r.covariance);
+  constexpr int kObserved[3] = {0, 1, 5};  // tx, ty, wz
+  dlo::Matrix6d observed = dlo::Matrix6d::Zero();
+  for (int i : kObserved)
+    for (int j : kObserved) observed(i, j) = r.covariance(i, j);
+  dlo::Matrix6d cov = dlo::twistCovarianceToXYZYPR(r.pose, observed);
+  const double unobserved = r.covariance(2, 2);
+  for (int i : {2, 4, 5}) cov(i, i) = unobserved;  // z, pitch, roll
+  return cov;
+}
+
 }  // namespace
 
 void CDirectHeightAligner::TConfigParams::loadFromConfigFile(
@@ -110,7 +128,7 @@ mrpt::poses::CPose3DPDFGaussian CDirectHeightAligner::alignFrames(
 
   mrpt::poses::CPose3DPDFGaussian pdf;
   pdf.mean = dlo::toCPose3D(r.pose);
-  pdf.cov = mrpt::math::CMatrixDouble66(dlo::twistCovarianceToXYZYPR(r.pose, r.covariance));
+  pdf.cov = mrpt::math::CMatrixDouble66(mrptCovariance(r, dof));
   return pdf;
 }
 
