@@ -19,25 +19,28 @@ std::vector<SelectedCell> selectHighGradientCells(const HeightGrid& grid,
                         static_cast<float>(geo.cellCentreY(r)), grid.height(r, c)};
   };
   // The strongest gradient of each block: non-maximum suppression that spreads the selection
-  // along edges instead of piling it on the few strongest walls.
+  // along edges instead of piling it on the few strongest walls. Blocks are scanned one band of
+  // block rows at a time, keeping a running best per block column.
+  const int block_cols = (geo.cols + bs - 1) / bs;
+  std::vector<float> best(static_cast<size_t>(block_cols));
+  std::vector<int> best_index(static_cast<size_t>(block_cols));
   for (int br = 0; br < geo.rows; br += bs) {
-    for (int bc = 0; bc < geo.cols; bc += bs) {
-      float best = min_sq;
-      int best_r = -1, best_c = -1;
-      for (int r = br; r < std::min(br + bs, geo.rows); ++r) {
-        const int row = r * geo.cols;
-        for (int c = bc; c < std::min(bc + bs, geo.cols); ++c) {
-          const int i = row + c;
-          if (!gradients.valid[i] || !measured[i]) continue;
-          const float m = gradients.gx[i] * gradients.gx[i] + gradients.gy[i] * gradients.gy[i];
-          if (m >= best) {
-            best = m;
-            best_r = r;
-            best_c = c;
-          }
+    std::fill(best.begin(), best.end(), min_sq);
+    std::fill(best_index.begin(), best_index.end(), -1);
+    for (int r = br; r < std::min(br + bs, geo.rows); ++r) {
+      const GradientCell* g = &gradients.cells[r * geo.cols];
+      const std::uint8_t* m = &measured[r * geo.cols];
+      for (int c = 0; c < geo.cols; ++c) {
+        const float mag = g[c].gx * g[c].gx + g[c].gy * g[c].gy;
+        const int b = c / bs;
+        if (m[c] && g[c].ok != 0.0f && mag >= best[b]) {
+          best[b] = mag;
+          best_index[b] = r * geo.cols + c;
         }
       }
-      if (best_r >= 0) cells.push_back(make_cell(best_r, best_c));
+    }
+    for (int b = 0; b < block_cols; ++b) {
+      if (best_index[b] >= 0) cells.push_back(make_cell(best_index[b] / geo.cols, best_index[b] % geo.cols));
     }
   }
   // Even thinning: keep every k-th cell in scan order (a fractional stride), which preserves the

@@ -34,13 +34,17 @@ void HeightFrame::buildLevels(HeightGrid finest, int levels, const SelectionPara
     for (size_t k = levels_.size() - 1; k-- > 0;) levels_[k].grid.fillHolesFrom(levels_[k + 1].grid);
     times_.grid_ms += sw.elapsedMs();
   }
-  for (FrameLevel& level : levels_) {
+  for (size_t k = 0; k < levels_.size(); ++k) {
+    FrameLevel& level = levels_[k];
     Stopwatch sw;
-    level.gradients = computeGradients(level.grid);
-    level.sampler = HeightSampler(level.grid, level.gradients);
+    level.sampler = HeightSampler(level.grid.geometry(), computeGradients(level.grid));
     times_.gradients_ms += sw.elapsedMs();
     Stopwatch sel;
-    level.cells = selectHighGradientCells(level.grid, level.gradients, selection, include_ground);
+    // The suppression block keeps its size in metres: coarse levels have few cells to spare.
+    SelectionParams at_level = selection;
+    at_level.block_size = std::max(1, (selection.block_size + (1 << k) / 2) >> k);
+    level.cells =
+        selectHighGradientCells(level.grid, level.sampler.gradients(), at_level, include_ground);
     times_.selection_ms += sel.elapsedMs();
   }
 }

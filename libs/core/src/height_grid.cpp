@@ -1,7 +1,9 @@
 #include "dlo/core/height_grid.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace dlo {
 
@@ -80,50 +82,68 @@ HeightGrid HeightGrid::coarser() const {
 
 void HeightGrid::finalise() {
   const int n = geometry_.cellCount();
-  height_.assign(n, 0.0f);
-  valid_.assign(n, 0u);
-  valid_cells_ = 0;
+  height_.resize(n);
+  valid_.resize(n);
   const std::uint32_t need = static_cast<std::uint32_t>(min_points_ < 1 ? 1 : min_points_);
+  int valid_cells = 0;
   for (int i = 0; i < n; ++i) {
-    if (count_[i] >= need) {
-      height_[i] = sum_z_[i] / static_cast<float>(count_[i]);
-      valid_[i] = 1u;
-      ++valid_cells_;
-    }
+    const bool ok = count_[i] >= need;
+    height_[i] = ok ? sum_z_[i] / static_cast<float>(count_[i]) : 0.0f;
+    valid_[i] = ok ? 1u : 0u;
+    valid_cells += ok ? 1 : 0;
   }
+  valid_cells_ = valid_cells;
   support_ = valid_;
 }
 
 void HeightGrid::fillHolesFrom(const HeightGrid& coarser) {
+  // Coarse heights premultiplied by support, with a one-cell border of zeros, so the inner loop
+  // is branch-free: height = sum(w*s*h) / sum(w*s) over the four surrounding coarse cells.
   const GridGeometry& cg = coarser.geometry_;
-  const int ccols = cg.cols;
+  if (cg.cols != (geometry_.cols + 1) / 2 || cg.rows != (geometry_.rows + 1) / 2 ||
+      std::abs(cg.resolution - 2.0 * geometry_.resolution) > 1e-9 * cg.resolution ||
+      std::abs(cg.x_min - geometry_.x_min) > 1e-6 || std::abs(cg.y_min - geometry_.y_min) > 1e-6) {
+    throw std::invalid_argument("HeightGrid::fillHolesFrom needs the grid's own coarser() level");
+  }
+  const int pc = cg.cols + 2;
+  std::vector<float> sh(static_cast<size_t>(pc) * (cg.rows + 2), 0.0f);
+  std::vector<float> s(sh.size(), 0.0f);
+  for (int r = 0; r < cg.rows; ++r) {
+    for (int c = 0; c < cg.cols; ++c) {
+      const int j = r * cg.cols + c;
+      if (!coarser.support_[j]) continue;
+      const int k = (r + 1) * pc + (c + 1);
+      s[k] = 1.0f;
+      sh[k] = coarser.height_[j];
+    }
+  }
+  // A fine cell centre lies a quarter of a coarse cell from the coarse centres around it, so
+  // the bilinear weights are 3/4 and 1/4; its padded coarse cell is (r+1)/2, (c+1)/2.
+  // Per fine row: blend the two coarse rows around it (weights 3/4, 1/4), then blend
+  // horizontally; even fine columns lie 3/4 of the way to padded coarse column c/2 + 1, odd
+  // ones 1/4 of the way to it.
+  std::vector<float> vs(static_cast<size_t>(pc)), vh(static_cast<size_t>(pc));
   for (int r = 0; r < geometry_.rows; ++r) {
-    // Fine cell centre in coarse continuous coordinates, shifted to coarse cell centres.
-    const double v = cg.v(geometry_.cellCentreY(r)) - 0.5;
-    const int r0 = static_cast<int>(std::floor(v));
-    const float b = static_cast<float>(v - r0);
+    const int pr0 = (r + 1) / 2;  // padded coarse row of the lower neighbour
+    const float b = (r % 2 == 0) ? 0.75f : 0.25f;
+    const float* s0 = &s[pr0 * pc];
+    const float* h0 = &sh[pr0 * pc];
+    for (int j = 0; j < pc; ++j) {
+      vs[j] = (1 - b) * s0[j] + b * s0[j + pc];
+      vh[j] = (1 - b) * h0[j] + b * h0[j + pc];
+    }
+    float* hrow = &height_[r * geometry_.cols];
+    const std::uint8_t* vrow = &valid_[r * geometry_.cols];
+    std::uint8_t* srow = &support_[r * geometry_.cols];
     for (int c = 0; c < geometry_.cols; ++c) {
-      const int i = index(r, c);
-      if (valid_[i]) continue;
-      const double u = cg.u(geometry_.cellCentreX(c)) - 0.5;
-      const int c0 = static_cast<int>(std::floor(u));
-      const float a = static_cast<float>(u - c0);
-      float wsum = 0.0f, hsum = 0.0f;
-      const float w[4] = {(1 - a) * (1 - b), a * (1 - b), (1 - a) * b, a * b};
-      const int rr[4] = {r0, r0, r0 + 1, r0 + 1};
-      const int cc[4] = {c0, c0 + 1, c0, c0 + 1};
-      for (int k = 0; k < 4; ++k) {
-        if (rr[k] < 0 || cc[k] < 0 || rr[k] >= cg.rows || cc[k] >= ccols) continue;
-        const int j = rr[k] * ccols + cc[k];
-        if (!coarser.support_[j] || w[k] <= 0.0f) continue;
-        wsum += w[k];
-        hsum += w[k] * coarser.height_[j];
-      }
+      const int j = (c + 1) / 2;
+      const float a = (c % 2 == 0) ? 0.75f : 0.25f;
+      const float wsum = (1 - a) * vs[j] + a * vs[j + 1];
+      const float hsum = (1 - a) * vh[j] + a * vh[j + 1];
       // Require most of the interpolation weight: no extrapolation far from data.
-      if (wsum >= 0.5f) {
-        height_[i] = hsum / wsum;
-        support_[i] = 1u;
-      }
+      const bool fill = !vrow[c] && wsum >= 0.5f;
+      hrow[c] = fill ? hsum / std::max(wsum, 0.5f) : hrow[c];
+      srow[c] = static_cast<std::uint8_t>(vrow[c] | (fill ? 1u : 0u));
     }
   }
 }

@@ -16,9 +16,8 @@ namespace dlo {
 /// One pyramid level of a HeightFrame.
 struct FrameLevel {
   HeightGrid grid;
-  GradientField gradients;
-  HeightSampler sampler;             ///< used when this frame is the reference
-  std::vector<SelectedCell> cells;   ///< used when this frame is the current scan
+  HeightSampler sampler;            ///< gradients; interpolated when this frame is the reference
+  std::vector<SelectedCell> cells;  ///< used when this frame is the current scan
 };
 
 /// Everything registration needs from one scan, computed once: a frame serves as the current

@@ -43,7 +43,8 @@ class HeightGrid {
   /// The next coarser level (cells twice as large) from pooled sums and counts.
   HeightGrid coarser() const;
 
-  /// Fills cells without measurements from `coarser` (the next level, itself already filled),
+  /// Fills cells without measurements from `coarser` (this grid's coarser() level, itself
+  /// already filled; anything else throws std::invalid_argument),
   /// by bilinear interpolation of its supported cells: the "pull" half of push-pull hole
   /// filling. At 0.1 m an HDL-64 scan leaves most ground cells between rings empty, which would
   /// mask the gradient of nearly every wall and curb; filled cells give those edges a

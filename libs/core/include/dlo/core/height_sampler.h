@@ -2,10 +2,8 @@
 /// \brief Bilinear interpolation of heights and gradients of a reference grid.
 #pragma once
 
-#include <vector>
-
 #include "dlo/core/gradient_field.h"
-#include "dlo/core/height_grid.h"
+#include "dlo/core/grid_geometry.h"
 
 namespace dlo {
 
@@ -16,15 +14,17 @@ struct HeightSample {
   float gy = 0.0f;  ///< dH/dy, m/m
 };
 
-/// Reference-side lookup table: heights and gradients interleaved per cell so that one
-/// bilinear lookup touches two cache lines. Built once per reference grid.
+/// Reference-side lookup: owns the gradient field of one grid level and interpolates it.
 class HeightSampler {
  public:
   HeightSampler() = default;
-  HeightSampler(const HeightGrid& grid, const GradientField& gradients);
+  HeightSampler(const GridGeometry& geometry, GradientField gradients)
+      : geometry_(geometry),
+        inv_resolution_(1.0 / geometry.resolution),
+        field_(std::move(gradients)) {}
 
   /// Samples at metric (x, y) in the grid frame. Returns false when (x, y) is outside the grid
-  /// or any of the four surrounding cells lacks a valid height or gradient.
+  /// or any of the four surrounding cells lacks a valid gradient.
   bool sample(double x, double y, HeightSample& out) const {
     const double u = (x - geometry_.x_min) * inv_resolution_ - 0.5;
     const double v = (y - geometry_.y_min) * inv_resolution_ - 0.5;
@@ -33,8 +33,8 @@ class HeightSampler {
     const int r = static_cast<int>(v);
     const float a = static_cast<float>(u - c);
     const float b = static_cast<float>(v - r);
-    const Cell* p0 = &cells_[r * geometry_.cols + c];
-    const Cell* p1 = p0 + geometry_.cols;
+    const GradientCell* p0 = &field_.cells[r * geometry_.cols + c];
+    const GradientCell* p1 = p0 + geometry_.cols;
     if (p0[0].ok == 0.0f || p0[1].ok == 0.0f || p1[0].ok == 0.0f || p1[1].ok == 0.0f) return false;
     const float w00 = (1 - a) * (1 - b), w01 = a * (1 - b), w10 = (1 - a) * b, w11 = a * b;
     out.h = w00 * p0[0].h + w01 * p0[1].h + w10 * p1[0].h + w11 * p1[1].h;
@@ -44,14 +44,12 @@ class HeightSampler {
   }
 
   const GridGeometry& geometry() const { return geometry_; }
+  const GradientField& gradients() const { return field_; }
 
  private:
-  struct Cell {
-    float h, gx, gy, ok;
-  };
   GridGeometry geometry_;
   double inv_resolution_ = 1.0;
-  std::vector<Cell> cells_;
+  GradientField field_;
 };
 
 }  // namespace dlo
