@@ -31,7 +31,7 @@ Options:
   --init "x y z yaw pitch roll"
                    initial guess of CUR in REF: metres and DEGREES (default: identity).
   --config FILE    MRPT INI file with sections [grid], [selection], [solver]; keys are named
-                   like the fields of dlo::DloParams (see config/ for a commented file).
+                   like the fields of dlo::DloParams.
   --set section.key=value
                    overrides one parameter after --config; may be repeated.
   --help           prints this text.

@@ -82,6 +82,12 @@ class RealScanAligner : public ::testing::Test {
   const Eigen::Isometry3d truth_ = poseFromXYZYPR(1.0, -0.5, 0.0, 5.0 * kDeg, 0.0, 0.0);
 };
 
+// First in this file on purpose: nothing has called registerMrptClasses() yet, so this sees the
+// registration done when the library was loaded.
+TEST(CDirectHeightAlignerRtti, IsRegisteredAtLoadTime) {
+  EXPECT_TRUE(mrpt::rtti::classFactory("mrpt::slam::CDirectHeightAligner"));
+}
+
 TEST(CDirectHeightAlignerRtti, IsCreatedByMrptClassFactoryByName) {
   registerMrptClasses();
   registerMrptClasses();  // idempotent
