@@ -179,5 +179,8 @@ int main(int argc, char** argv) {
     what = what.substr(0, what.find('\n'));
     std::cerr << "dlo-register: unexpected error: " << what << "\n";
     return 1;
+  } catch (...) {
+    std::cerr << "dlo-register: unexpected error of unknown type.\n";
+    return 1;
   }
 }
