@@ -230,15 +230,17 @@ TEST_F(DloRegister, ReadsPlyInput) {
 }
 
 TEST_F(DloRegister, ReadsPlyWithoutIntensity) {
-  // MRPT's PLY reader prints a warning about the missing property on stderr (C stdio, so it
-  // cannot be silenced without hijacking the process's stderr); the result is unaffected.
   const std::string ref = wd_.path("ref.ply"), cur = wd_.path("cur.bin");
   writeAsciiPly(even(), ref, false);
   writeKittiBin(test::expressIn(odd(), poseFromXYZYPR(1.0, -0.5, 0, 5 * kDeg, 0, 0)), cur);
-  const RunResult r = runRegister({ref, cur}, wd_);
-  EXPECT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(lineCount(r.out), 1) << r.out;
-  expectPose(r.out, 1.0, -0.5, 0.0, 5.0, 0.0, 0.0);
+  expectPose(expectJson({ref, cur}), 1.0, -0.5, 0.0, 5.0, 0.0, 0.0);
+}
+
+TEST_F(DloRegister, TruncatedPlyIsNamed) {
+  const std::string ply = wd_.path("truncated.ply");
+  std::ofstream(ply) << "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\n"
+                        "property float y\nproperty float z\nend_header\n1 2 3\n4 5\n";
+  expectError({ply, ply}, ply);
 }
 
 TEST_F(DloRegister, RawlogAgainstItselfIsIdentity) {

@@ -11,6 +11,7 @@
 #include <mrpt/serialization/CSerializable.h>
 
 #include "dlo/mrpt/input_error.h"
+#include "dlo/mrpt/ply_file.h"
 #include "dlo/mrpt/point_conversion.h"
 
 namespace dlo {
@@ -29,14 +30,6 @@ std::string lower(std::string s) {
 void requireReadable(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   if (!f) throw InputError("cannot open scan file '" + path + "': no such file or not readable.");
-}
-
-PointCloud loadPly(const std::string& path) {
-  mrpt::maps::CSimplePointsMap map;
-  if (!map.loadFromPlyFile(path)) {
-    throw InputError("cannot read PLY file '" + path + "': " + map.getLoadPLYErrorString() + ".");
-  }
-  return toPointCloud(map);
 }
 
 /// The first point-cloud-like observation of a rawlog, reading one entry at a time.
@@ -125,7 +118,7 @@ PointCloud loadScanFile(const std::string& path) {
       points = loadKittiBin(path);
       break;
     case ScanFormat::kPly:
-      points = loadPly(path);
+      points = loadPlyFile(path);
       break;
     default:
       points = loadFirstRawlogScan(path);
