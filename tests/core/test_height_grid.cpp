@@ -1,1 +1,144 @@
+// HeightGrid: rasterisation statistics, the 3-point rule, pyramid pooling and hole filling.
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "dlo/core/height_grid.h"
+
+namespace dlo {
+namespace {
+
+// A 10 x 10 grid of 1 m cells centred on the origin: cell (r, c) covers
+// x in [c - 5, c - 4), y in [r - 5, r - 4).
+GridGeometry tenByTen() { return GridGeometry::centred(10, 10, 1.0); }
+
+PointCloud pointsInCell(int row, int col, const std::vector<float>& heights) {
+  PointCloud pts;
+  for (size_t k = 0; k < heights.size(); ++k) {
+    const float dx = 0.1f + 0.8f * static_cast<float>(k) / static_cast<float>(heights.size());
+    pts.emplace_back(static_cast<float>(col - 5) + dx, static_cast<float>(row - 5) + 0.5f,
+                     heights[k]);
+  }
+  return pts;
+}
+
+TEST(HeightGrid, IgnoresCellsWithFewerThanThreePoints) {
+  PointCloud pts = pointsInCell(2, 3, {1.0f, 2.0f});
+  const PointCloud three = pointsInCell(4, 4, {1.0f, 2.0f, 3.0f});
+  pts.insert(pts.end(), three.begin(), three.end());
+  const HeightGrid g = HeightGrid::fromPoints(pts, tenByTen(), 3, -10, 10);
+  EXPECT_FALSE(g.isValid(2, 3));
+  EXPECT_EQ(g.count(2, 3), 2u);
+  EXPECT_TRUE(g.isValid(4, 4));
+  EXPECT_EQ(g.validCellCount(), 1);
+}
+
+TEST(HeightGrid, CellHeightIsTheMeanOfItsPoints) {
+  const HeightGrid g =
+      HeightGrid::fromPoints(pointsInCell(7, 1, {0.5f, 1.5f, 4.0f, -2.0f}), tenByTen(), 3, -10, 10);
+  ASSERT_TRUE(g.isValid(7, 1));
+  EXPECT_FLOAT_EQ(g.height(7, 1), 1.0f);
+  EXPECT_EQ(g.count(7, 1), 4u);
+}
+
+TEST(HeightGrid, SkipsNonFinitePointsAndPointsOutsideTheWindowOrHeightBand) {
+  PointCloud pts = pointsInCell(5, 5, {1.0f, 1.0f, 1.0f});
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  pts.emplace_back(0.5f, 0.5f, nan);
+  pts.emplace_back(nan, 0.5f, 1.0f);
+  pts.emplace_back(0.5f, inf, 1.0f);
+  pts.emplace_back(0.5f, 0.5f, 50.0f);   // above max_z
+  pts.emplace_back(0.5f, 0.5f, -50.0f);  // below min_z
+  pts.emplace_back(5.0f, 0.5f, 1.0f);    // x == x_max: outside
+  pts.emplace_back(-5.01f, 0.5f, 1.0f);  // left of x_min
+  const HeightGrid g = HeightGrid::fromPoints(pts, tenByTen(), 3, -10, 10);
+  EXPECT_EQ(g.count(5, 5), 3u);
+  EXPECT_FLOAT_EQ(g.height(5, 5), 1.0f);
+  EXPECT_EQ(g.validCellCount(), 1);
+}
+
+TEST(HeightGrid, PointsOnCellBoundariesGoToTheUpperCell) {
+  PointCloud pts(3, Eigen::Vector3f(0.0f, 0.0f, 2.0f));  // x = 0 is the left edge of column 5
+  const HeightGrid g = HeightGrid::fromPoints(pts, tenByTen(), 3, -10, 10);
+  EXPECT_TRUE(g.isValid(5, 5));
+}
+
+TEST(HeightGrid, CoarserLevelIsTheMeanOfAllPointsOfItsFourCells) {
+  PointCloud pts = pointsInCell(0, 0, {1.0f, 1.0f, 1.0f, 1.0f});  // 4 points, mean 1
+  const PointCloud b = pointsInCell(1, 1, {4.0f, 4.0f});           // 2 points: invalid alone
+  pts.insert(pts.end(), b.begin(), b.end());
+  const HeightGrid fine = HeightGrid::fromPoints(pts, tenByTen(), 3, -10, 10);
+  EXPECT_FALSE(fine.isValid(1, 1));
+  const HeightGrid coarse = fine.coarser();
+  EXPECT_EQ(coarse.cols(), 5);
+  EXPECT_DOUBLE_EQ(coarse.resolution(), 2.0);
+  ASSERT_TRUE(coarse.isValid(0, 0));
+  EXPECT_EQ(coarse.count(0, 0), 6u);
+  EXPECT_FLOAT_EQ(coarse.height(0, 0), (4 * 1.0f + 2 * 4.0f) / 6.0f);
+}
+
+TEST(HeightGrid, CoarserOfAnOddSizedGridKeepsTheLastColumn) {
+  const GridGeometry geo{0.0, 0.0, 1.0, 5, 3};
+  PointCloud pts(3, Eigen::Vector3f(4.5f, 2.5f, 7.0f));  // last column and row
+  const HeightGrid coarse = HeightGrid::fromPoints(pts, geo, 3, -10, 10).coarser();
+  EXPECT_EQ(coarse.cols(), 3);
+  EXPECT_EQ(coarse.rows(), 2);
+  EXPECT_TRUE(coarse.isValid(1, 2));
+}
+
+TEST(HeightGrid, FillHolesInterpolatesTheCoarserLevelWithoutTouchingMeasuredCells) {
+  // Two measured cells two columns apart; the empty one between them gets a height from the
+  // coarser level, the measured ones keep their own mean, and cells far from data stay empty.
+  PointCloud pts = pointsInCell(4, 3, {1.0f, 1.0f, 1.0f});
+  const PointCloud b = pointsInCell(4, 5, {3.0f, 3.0f, 3.0f});
+  pts.insert(pts.end(), b.begin(), b.end());
+  HeightGrid fine = HeightGrid::fromPoints(pts, tenByTen(), 3, -10, 10);
+  const HeightGrid coarse = fine.coarser();
+  fine.fillHolesFrom(coarse);
+  EXPECT_FLOAT_EQ(fine.height(4, 3), 1.0f);
+  EXPECT_FLOAT_EQ(fine.height(4, 5), 3.0f);
+  EXPECT_FALSE(fine.isValid(4, 4));
+  ASSERT_TRUE(fine.hasSupport(4, 4));
+  EXPECT_GE(fine.height(4, 4), 1.0f);
+  EXPECT_LE(fine.height(4, 4), 3.0f);
+  EXPECT_FALSE(fine.hasSupport(0, 9));
+  EXPECT_FALSE(fine.hasSupport(9, 0));
+}
+
+TEST(HeightGrid, FillHolesRejectsALevelThatIsNotItsOwnCoarser) {
+  HeightGrid fine = HeightGrid::fromPoints({}, tenByTen(), 3, -10, 10);
+  const HeightGrid other = HeightGrid::fromPoints({}, GridGeometry::centred(5, 5, 3.0), 3, -10, 10);
+  EXPECT_THROW(fine.fillHolesFrom(other), std::invalid_argument);
+}
+
+TEST(HeightGrid, FromCellsTakesMeanHeightsAndCounts) {
+  std::vector<float> h(100, 0.0f);
+  std::vector<std::uint32_t> n(100, 0u);
+  h[12] = 2.5f;
+  n[12] = 3;
+  h[13] = std::numeric_limits<float>::quiet_NaN();
+  n[13] = 10;
+  h[14] = 1.0f;
+  n[14] = 2;
+  const HeightGrid g = HeightGrid::fromCells(tenByTen(), h, n, 3);
+  EXPECT_TRUE(g.isValid(1, 2));
+  EXPECT_FLOAT_EQ(g.height(1, 2), 2.5f);
+  EXPECT_FALSE(g.isValid(1, 3));  // NaN height
+  EXPECT_FALSE(g.isValid(1, 4));  // too few points
+  EXPECT_EQ(g.validCellCount(), 1);
+}
+
+TEST(HeightGrid, HeightImageHasNaNOnInvalidCells) {
+  const HeightGrid g =
+      HeightGrid::fromPoints(pointsInCell(2, 6, {1.0f, 2.0f, 3.0f}), tenByTen(), 3, -10, 10);
+  const cv::Mat img = g.heightImage();
+  ASSERT_EQ(img.rows, 10);
+  ASSERT_EQ(img.cols, 10);
+  EXPECT_FLOAT_EQ(img.at<float>(2, 6), 2.0f);
+  EXPECT_TRUE(std::isnan(img.at<float>(0, 0)));
+}
+
+}  // namespace
+}  // namespace dlo

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "../test_data.h"
 #include "dlo/core/direct_aligner.h"
@@ -44,9 +45,9 @@ class RealScanRegistration : public ::testing::TestWithParam<Motion> {
     const Eigen::Isometry3d err = truth.inverse() * r.pose;
     const double dt = err.translation().norm();
     const double dr = Eigen::AngleAxisd(err.linear()).angle() / kDeg;
-    std::printf("dof %d motion (%.2f %.2f %.2f | %.1f %.1f %.1f): err %.4f m %.4f deg, it %d, "
+    std::printf("ratio %.2e dof %d motion (%.2f %.2f %.2f | %.1f %.1f %.1f): err %.4f m %.4f deg, it %d, "
                 "cells %d, rms %.4f, solve %.2f ms\n",
-                dof, m.x, m.y, z, m.yaw_deg, pitch / kDeg, roll / kDeg, dt, dr, r.iterations,
+                r.information_ratio, dof, m.x, m.y, z, m.yaw_deg, pitch / kDeg, roll / kDeg, dt, dr, r.iterations,
                 r.cells, r.rms_height_error, r.times.solve_ms);
     EXPECT_LT(dt, 0.03);
     EXPECT_LT(dr, 0.1);
@@ -65,6 +66,87 @@ INSTANTIATE_TEST_SUITE_P(UpTo2mAnd10deg, RealScanRegistration,
                                            Motion{1.2, 0.8, -0.10, -5.0, 1.0, 1.5},
                                            Motion{2.0, 0.0, 0.10, 10.0, -1.5, 1.0},
                                            Motion{-1.4, 1.4, 0.20, -10.0, 2.0, -2.0}));
+
+}  // namespace
+}  // namespace dlo
+
+namespace dlo {
+namespace {
+
+/// Points on the plane z = -1.7 (with 1 cm noise) over the 40 m window, plus optional walls
+/// parallel to x at y = +-4 m (a corridor), sampled like a LiDAR does: along horizontal lines,
+/// one per laser ring.
+PointCloud syntheticScene(unsigned seed, bool corridor) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> xy(-20.0f, 20.0f);
+  std::uniform_int_distribution<int> ring(0, 15);
+  std::normal_distribution<float> noise(0.0f, 0.01f);
+  PointCloud pts;
+  for (int i = 0; i < 250000; ++i) pts.emplace_back(xy(rng), xy(rng), -1.7f + noise(rng));
+  if (corridor) {
+    for (int i = 0; i < 100000; ++i) {
+      const float y = (i % 2 == 0 ? 4.0f : -4.0f) + noise(rng);
+      pts.emplace_back(xy(rng), y, -1.6f + 0.2f * static_cast<float>(ring(rng)) + noise(rng));
+    }
+  }
+  return pts;
+}
+
+AlignmentResult alignSynthetic(int dof, bool corridor, const Eigen::Isometry3d& truth) {
+  DloParams params;
+  params.solver.dof = dof;
+  const HeightFrame ref = HeightFrame::fromPoints(syntheticScene(1, corridor), params.grid,
+                                                  params.selection, params.includeGround());
+  const HeightFrame cur =
+      HeightFrame::fromPoints(test::expressIn(syntheticScene(2, corridor), truth), params.grid,
+                              params.selection, params.includeGround());
+  return DirectAligner(params.solver).align(ref, cur, Eigen::Isometry3d::Identity());
+}
+
+TEST(DegenerateScene, AFeaturelessPlaneIsReportedAndThePriorKeptIn3Dof) {
+  const AlignmentResult r = alignSynthetic(3, false, poseFromXYZYPR(0.5, 0.3, 0, 0.05, 0, 0));
+  EXPECT_TRUE(r.degenerate);
+  // No confident wrong answer: the pose stays at the initial guess, with a huge variance.
+  EXPECT_LT(r.pose.translation().norm(), 1e-6);
+  EXPECT_GT(r.covariance(0, 0), 1e3);
+  EXPECT_GT(r.covariance(5, 5), 1e3);
+}
+
+TEST(DegenerateScene, AFeaturelessPlaneStillGivesZRollPitchIn6Dof) {
+  const Eigen::Isometry3d truth = poseFromXYZYPR(0.5, 0.3, 0.12, 0.05, 0.02, -0.015);
+  const AlignmentResult r = alignSynthetic(6, false, truth);
+  EXPECT_TRUE(r.degenerate);
+  const Eigen::Vector3d ypr = yawPitchRoll(r.pose.linear());
+  EXPECT_NEAR(r.pose.translation().z(), 0.12, 0.01);
+  EXPECT_NEAR(ypr(1), 0.02, 0.002);
+  EXPECT_NEAR(ypr(2), -0.015, 0.002);
+  // x, y and yaw are unobservable on a plane: they keep the prior instead of drifting.
+  EXPECT_LT(r.pose.translation().head<2>().norm(), 0.02);
+  EXPECT_LT(std::abs(ypr(0)), 0.002);
+}
+
+TEST(DegenerateScene, ACorridorKeepsThePriorAlongItsAxisButFixesTheRest) {
+  const AlignmentResult r = alignSynthetic(3, true, poseFromXYZYPR(0.6, 0.25, 0, 0.03, 0, 0));
+  EXPECT_TRUE(r.degenerate);
+  EXPECT_NEAR(r.pose.translation().y(), 0.25, 0.03);
+  EXPECT_NEAR(yawPitchRoll(r.pose.linear())(0), 0.03, 0.005);
+  EXPECT_LT(std::abs(r.pose.translation().x()), 0.05);  // along the corridor: the prior (0)
+  EXPECT_GT(r.covariance(0, 0), 1e3);
+}
+
+TEST(RealScanRegistration, AnEmptyCurrentScanIsDegenerateAndKeepsTheGuess) {
+  DloParams params;
+  const HeightFrame ref =
+      HeightFrame::fromPoints(loadKittiBin(test::sharedData("kitti_00_000000.bin.gz")),
+                              params.grid, params.selection, false);
+  const HeightFrame cur = HeightFrame::fromPoints({}, params.grid, params.selection, false);
+  EXPECT_TRUE(cur.empty());
+  const Eigen::Isometry3d guess = poseFromXYZYPR(1.0, 0.0, 0.0, 0.1, 0.0, 0.0);
+  const AlignmentResult r = DirectAligner(params.solver).align(ref, cur, guess);
+  EXPECT_TRUE(r.degenerate);
+  EXPECT_EQ(r.cells, 0);
+  EXPECT_TRUE(r.pose.isApprox(guess, 1e-9));
+}
 
 }  // namespace
 }  // namespace dlo

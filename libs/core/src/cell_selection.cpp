@@ -16,7 +16,7 @@ std::vector<SelectedCell> selectHighGradientCells(const HeightGrid& grid,
   cells.reserve(static_cast<size_t>(geo.cellCount() / (bs * bs) + 1));
   auto make_cell = [&](int r, int c) {
     return SelectedCell{static_cast<float>(geo.cellCentreX(c)),
-                        static_cast<float>(geo.cellCentreY(r)), grid.height(r, c)};
+                        static_cast<float>(geo.cellCentreY(r)), grid.height(r, c), false};
   };
   // The strongest gradient of each block: non-maximum suppression that spreads the selection
   // along edges instead of piling it on the few strongest walls. Blocks are scanned one band of
@@ -59,7 +59,10 @@ std::vector<SelectedCell> selectHighGradientCells(const HeightGrid& grid,
     const int s = params.ground_stride;
     for (int r = s / 2; r < geo.rows; r += s) {
       for (int c = s / 2; c < geo.cols; c += s) {
-        if (grid.isValid(r, c)) cells.push_back(make_cell(r, c));
+        if (!grid.isValid(r, c)) continue;
+        SelectedCell cell = make_cell(r, c);
+        cell.ground = true;
+        cells.push_back(cell);
       }
     }
   }

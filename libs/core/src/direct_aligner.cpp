@@ -126,6 +126,7 @@ class ConditionedSystem {
   }
 
   bool degenerate() const { return degenerate_; }
+  double informationRatio() const { return lmax_ > 0.0 ? std::max(0.0, lambda_(0)) / lmax_ : 0.0; }
 
  private:
   Vec scale_, bs_, lambda_;
@@ -232,6 +233,7 @@ AlignmentResult alignImpl(const SolverParams& p, const HeightFrame& reference,
   res.cells = eq.n;
   res.rms_height_error = eq.n > 0 ? std::sqrt(eq.sq / eq.n) : 0.0;
   res.degenerate = sys.degenerate();
+  res.information_ratio = sys.informationRatio();
   res.covariance = toTwistCovariance<N>(sys.covariance());
   T.linear() = Eigen::Quaterniond(T.linear()).normalized().toRotationMatrix();
   res.pose = T;

@@ -23,6 +23,9 @@ struct SelectedCell {
   float x = 0.0f;  ///< metres
   float y = 0.0f;  ///< metres
   float h = 0.0f;  ///< mean height, metres
+  /// Selected from the ground lattice for z, roll and pitch only: its gradient is below the
+  /// threshold, i.e. noise, so it must not pretend to constrain x, y or yaw.
+  bool ground = false;
 };
 
 /// Picks cells whose gradient magnitude is at least `min_gradient`, keeping the strongest one in

@@ -25,7 +25,7 @@ struct SolverParams {
   double min_step_translation = 1e-4; ///< convergence: translation update below this (m)
   double min_step_rotation = 1e-5;    ///< convergence: rotation update below this (rad)
   int min_cells = 30;                 ///< fewer usable cells than this: degenerate
-  double degeneracy_eigen_ratio = 1e-3; ///< eig_min/eig_max of the scaled Hessian below: degenerate
+  double degeneracy_eigen_ratio = 0.1;  ///< eig_min/eig_max of the scaled Hessian below: degenerate
   double rotation_scale = 10.0;       ///< metres; scales rotations against translations
                                       ///< when judging conditioning
 };
@@ -43,6 +43,9 @@ struct AlignmentResult {
   double rms_height_error = 0.0; ///< RMS of the height error at the end, metres
   bool converged = false;        ///< the finest level met the step criteria
   bool degenerate = false;       ///< the Hessian was ill-conditioned or too few cells
+  /// Smallest over largest eigenvalue of the Hessian (rotations scaled by rotation_scale):
+  /// 1 is isotropic information, 0 an unobservable direction.
+  double information_ratio = 0.0;
   StageTimes times;              ///< solve_ms only (frame build times are the frames')
 };
 

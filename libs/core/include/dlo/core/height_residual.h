@@ -17,7 +17,7 @@ namespace dlo {
 /// xi = (tx, ty, tz, wx, wy, wz), dq/dxi = [I | -[q]x], hence
 ///   de/dxi = [gx, gy, -1] [I | -[q]x]
 ///          = [gx, gy, -1, -gy qz - qy, gx qz + qx, -gx qy + gy qx],
-/// with (gx, gy) the reference gradient at q. The 3-DoF Jacobian keeps (tx, ty, wz):
+/// with (gx, gy) the reference gradient at q (zero for ground-lattice cells). The 3-DoF Jacobian keeps (tx, ty, wz):
 ///   [gx, gy, -gx qy + gy qx].
 /// \tparam N 3 or 6 parameters.
 /// \return false if q falls where the reference has no valid height or gradient.
@@ -31,7 +31,9 @@ inline bool heightResidual(const HeightSampler& reference, const SelectedCell& c
       R * Eigen::Matrix<Scalar, 3, 1>(Scalar(cell.x), Scalar(cell.y), Scalar(cell.h)) + t;
   HeightSample s;
   if (!reference.sample(static_cast<double>(q.x()), static_cast<double>(q.y()), s)) return false;
-  const Scalar gx = Scalar(s.gx), gy = Scalar(s.gy);
+  // A ground cell's gradient is sub-threshold noise: it observes height only.
+  const Scalar gx = cell.ground ? Scalar(0) : Scalar(s.gx);
+  const Scalar gy = cell.ground ? Scalar(0) : Scalar(s.gy);
   e = Scalar(s.h) - q.z();
   if constexpr (N == 6) {
     J << gx, gy, Scalar(-1), -gy * q.z() - q.y(), gx * q.z() + q.x(), -gx * q.y() + gy * q.x();
