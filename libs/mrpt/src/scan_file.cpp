@@ -1,25 +1,22 @@
 #include "dlo/mrpt/scan_file.h"
 
+#include <mrpt/io/CFileGZInputStream.h>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <fstream>
-#include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/maps/CSimplePointsMap.h>
-#include <mrpt/obs/CSensoryFrame.h>
-#include <mrpt/serialization/CArchive.h>
-#include <mrpt/serialization/CSerializable.h>
 
 #include "dlo/mrpt/input_error.h"
 #include "dlo/mrpt/ply_file.h"
-#include "dlo/mrpt/point_conversion.h"
+#include "dlo/mrpt/rawlog_scan_source.h"
 
 namespace dlo {
 
 namespace {
 
 bool endsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 std::string lower(std::string s) {
@@ -32,33 +29,15 @@ void requireReadable(const std::string& path) {
   if (!f) throw InputError("cannot open scan file '" + path + "': no such file or not readable.");
 }
 
-/// The first point-cloud-like observation of a rawlog, reading one entry at a time.
+/// The first scan of a rawlog, reading one entry at a time.
 PointCloud loadFirstRawlogScan(const std::string& path) {
-  mrpt::io::CFileGZInputStream in;
-  if (!in.open(path)) throw InputError("cannot open rawlog '" + path + "'.");
-  auto arch = mrpt::serialization::archiveFrom(in);
-  size_t entries = 0;
-  PointCloud points;
-  for (;;) {
-    mrpt::serialization::CSerializable::Ptr obj;
-    try {
-      obj = arch.ReadObject();
-    } catch (const std::exception&) {
-      if (in.getPosition() >= in.getTotalBytesCount() || entries > 0) break;
-      throw InputError("rawlog '" + path + "' is corrupt or not an MRPT rawlog (entry " +
-                       std::to_string(entries) + " could not be read).");
-    }
-    ++entries;
-    if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj)) {
-      for (const auto& o : *sf) {
-        if (o && observationToPointCloud(*o, points) && !points.empty()) return points;
-      }
-    } else if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj)) {
-      if (observationToPointCloud(*o, points) && !points.empty()) return points;
-    }
-  }
+  RawlogScanSource source(path);
+  TimedScan scan;
+  if (source.next(scan)) return std::move(scan.points);
+  const ScanSourceStats& stats = source.stats();
+  if (!stats.error.empty()) throw InputError(stats.error);
   throw InputError("rawlog '" + path + "' holds no point-cloud observation with points (read " +
-                   std::to_string(entries) + " entries).");
+                   std::to_string(stats.entries_read) + " entries).");
 }
 
 }  // namespace

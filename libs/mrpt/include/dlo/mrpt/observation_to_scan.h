@@ -1,0 +1,43 @@
+/// \file observation_to_scan.h
+/// \brief Turning one MRPT observation into a TimedScan: vehicle-frame points, per-point times,
+/// range and finiteness filtering.
+#pragma once
+
+#include <mrpt/obs/CObservation.h>
+#include <mrpt/obs/CObservationPointCloud.h>
+#include <string>
+#include <vector>
+
+#include "dlo/mrpt/scan_source.h"
+
+namespace dlo {
+
+/// Outcome of observationToTimedScan().
+enum class ObservationConversion {
+  kConverted,      ///< `scan` holds the observation's points (possibly none after filtering).
+  kUnsupported,    ///< Not a point-cloud-like class: the caller counts it as skipped.
+  kUnrecoverable,  ///< A point-cloud-like class whose points cannot be recovered; see `reason`.
+};
+
+/// Converts `obs` into `scan` (all fields but entry_index). Supported:
+/// - CObservationVelodyneScan: generatePointCloud() with per-point timestamps;
+/// - CObservationPointCloud: its point map (per-point times: see pointCloudObservationTimes());
+/// - CObservation3DRangeScan: its 3D points, or its range image unprojected with the camera
+///   intrinsics when it has no 3D points.
+/// CObservationRotatingScan is kUnrecoverable: MRPT 2.5 stores only its range image, azimuth span
+/// and lidar model, not the elevation angle of each ring, so points cannot be rebuilt from it.
+/// Non-const because lazily-loaded observations must be loaded and range images unprojected.
+/// \param reason set to one sentence when the result is kUnrecoverable.
+ObservationConversion observationToTimedScan(mrpt::obs::CObservation& obs,
+                                             const ScanSourceOptions& options, TimedScan& scan,
+                                             std::string& reason);
+
+/// HOOK for per-point times stored in a CObservationPointCloud. MRPT 2.5 point maps have no time
+/// channel (CPointsMapXYZIRT came later), so a writer that wants to carry times must agree on a
+/// convention with this function. None is agreed yet (the simulator's datasets/README.md does not
+/// define one), so it returns an empty vector; when one is, decode it here and every reader
+/// (RawlogScanSource, loadScanFile) picks it up.
+/// \return one time per point of `obs.pointcloud` in seconds relative to obs.timestamp, or empty.
+std::vector<float> pointCloudObservationTimes(const mrpt::obs::CObservationPointCloud& obs);
+
+}  // namespace dlo

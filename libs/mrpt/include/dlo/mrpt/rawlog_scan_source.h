@@ -1,0 +1,65 @@
+/// \file rawlog_scan_source.h
+/// \brief TimedScans from an MRPT rawlog, read one entry at a time.
+#pragma once
+
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/obs/CObservation.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/serialization/CSerializable.h>
+#include <deque>
+#include <memory>
+#include <string>
+
+#include "dlo/mrpt/scan_source.h"
+
+namespace dlo {
+
+/// Reads an MRPT `.rawlog` (plain or gzip) as a stream of TimedScans, never holding more than one
+/// entry in memory, so rawlogs of millions of observations are fine. Both layouts are read:
+/// (CActionCollection, CSensoryFrame) pairs, where each observation of a sensory frame becomes a
+/// scan, and observation-only. Classes are handled as observationToTimedScan() says; all others
+/// are skipped and counted by class name in stats().
+///
+/// A rawlog that breaks part way (truncated copy, corrupt bytes, a class this MRPT does not know)
+/// is not an exception: next() returns false after the last readable entry and stats().error
+/// names the entry index and byte offset, so the caller decides whether a partial input is fine.
+///
+///     dlo::RawlogScanSource source("drive.rawlog", options);
+///     dlo::TimedScan scan;
+///     while (source.next(scan)) odometry.add(scan);
+///     if (!source.stats().error.empty()) warn(source.stats().error);
+class RawlogScanSource : public ScanSource {
+ public:
+  /// Opens `path` and reads its first entry.
+  /// \throws InputError naming the file if it is missing, unreadable, or its first entry is not
+  ///         an MRPT serialized object (not a rawlog at all). An empty file is an empty rawlog.
+  RawlogScanSource(const std::string& path, const ScanSourceOptions& options = {});
+
+  bool next(TimedScan& scan) override;
+  const ScanSourceStats& stats() const override { return stats_; }
+
+  /// The next observation as stored (both layouts flattened), without conversion, label filter
+  /// or counting of skipped classes: for tools that copy or inspect observations. Do not mix
+  /// with next() on the same source. \return nullptr at the end or where the file broke.
+  mrpt::obs::CObservation::Ptr nextObservation();
+
+ private:
+  /// Reads the next serialized object into `object_`. \return false at the end or on error.
+  bool readEntry();
+  /// Queues the observations of the entry just read (none for an action or unknown object).
+  void queueObservations();
+
+  std::string path_;
+  ScanSourceOptions options_;
+  bool gzipped_ = false;
+  mrpt::io::CFileGZInputStream in_;
+  std::unique_ptr<mrpt::serialization::CArchive> archive_;
+  mrpt::serialization::CSerializable::Ptr object_;
+  size_t object_index_ = 0;  ///< Entry index of object_.
+  std::deque<mrpt::obs::CObservation::Ptr> pending_;
+  bool finished_ = false;
+  std::string mrpt_message_;  ///< MRPT's own words for the failure, for the not-a-rawlog case.
+  ScanSourceStats stats_;
+};
+
+}  // namespace dlo

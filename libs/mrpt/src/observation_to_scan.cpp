@@ -1,0 +1,136 @@
+#include "dlo/mrpt/observation_to_scan.h"
+
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CObservationRotatingScan.h>
+#include <mrpt/obs/CObservationVelodyneScan.h>
+#include <mrpt/system/datetime.h>
+#include <cmath>
+
+namespace dlo {
+
+namespace {
+
+/// Filters sensor-frame points and moves the kept ones into the vehicle frame. `times` may be
+/// null (no per-point times) or hold one time per point.
+void appendFiltered(const mrpt::poses::CPose3D& sensor_pose, const float* xs, const float* ys,
+                    const float* zs, const float* times, size_t n, const ScanSourceOptions& options,
+                    TimedScan& scan) {
+  const Eigen::Matrix3f R = sensor_pose.getRotationMatrix().asEigen().cast<float>();
+  const Eigen::Vector3f t(static_cast<float>(sensor_pose.x()), static_cast<float>(sensor_pose.y()),
+                          static_cast<float>(sensor_pose.z()));
+  // Squared limits avoid a square root per point.
+  const double min2 = options.min_range * options.min_range;
+  const double max2 = std::isfinite(options.max_range) ? options.max_range * options.max_range
+                                                       : std::numeric_limits<double>::infinity();
+  scan.points.reserve(scan.points.size() + n);
+  if (times) scan.point_times.reserve(scan.point_times.size() + n);
+  for (size_t i = 0; i < n; ++i) {
+    if (!(std::isfinite(xs[i]) && std::isfinite(ys[i]) && std::isfinite(zs[i]))) {
+      ++scan.dropped_non_finite;
+      continue;
+    }
+    const Eigen::Vector3f p(xs[i], ys[i], zs[i]);
+    const double r2 = p.squaredNorm();
+    if (r2 < min2 || r2 > max2) {
+      ++scan.dropped_by_range;
+      continue;
+    }
+    scan.points.push_back(R * p + t);
+    if (times) scan.point_times.push_back(times[i]);
+  }
+}
+
+void convertVelodyne(mrpt::obs::CObservationVelodyneScan& velo, const ScanSourceOptions& options,
+                     TimedScan& scan) {
+  auto& pc = velo.point_cloud;
+  // Regenerate when the stored cloud lacks times: per-point times are what deskewing needs.
+  if (!velo.scan_packets.empty() && (pc.size() == 0 || pc.timestamp.size() != pc.size())) {
+    mrpt::obs::CObservationVelodyneScan::TGeneratePointCloudParameters params;
+    params.generatePerPointTimestamp = true;
+    params.minDistance = 0.0f;  // ScanSourceOptions::min_range decides, counted.
+    velo.generatePointCloud(params);
+  }
+  std::vector<float> times;
+  if (pc.timestamp.size() == pc.size() && pc.size() > 0) {
+    times.resize(pc.size());
+    for (size_t i = 0; i < pc.size(); ++i) {
+      times[i] = static_cast<float>(mrpt::system::timeDifference(velo.timestamp, pc.timestamp[i]));
+    }
+  }
+  appendFiltered(velo.sensorPose, pc.x.data(), pc.y.data(), pc.z.data(),
+                 times.empty() ? nullptr : times.data(), pc.size(), options, scan);
+}
+
+bool convert3DRangeScan(mrpt::obs::CObservation3DRangeScan& r3d, const ScanSourceOptions& options,
+                        TimedScan& scan, std::string& reason) {
+  if (r3d.hasPoints3D && !r3d.points3D_x.empty()) {
+    appendFiltered(r3d.sensorPose, r3d.points3D_x.data(), r3d.points3D_y.data(),
+                   r3d.points3D_z.data(), nullptr, r3d.points3D_x.size(), options, scan);
+    return true;
+  }
+  if (r3d.hasRangeImage && r3d.rangeImage.rows() > 0 && r3d.cameraParams.fx() > 0 &&
+      r3d.cameraParams.fy() > 0) {
+    mrpt::maps::CSimplePointsMap local;  // sensor frame: range limits apply before sensorPose
+    r3d.unprojectInto(local);
+    appendFiltered(r3d.sensorPose, local.getPointsBufferRef_x().data(),
+                   local.getPointsBufferRef_y().data(), local.getPointsBufferRef_z().data(),
+                   nullptr, local.size(), options, scan);
+    return true;
+  }
+  reason =
+      "it has neither 3D points nor a range image with camera intrinsics to unproject (fx, fy "
+      "> 0).";
+  return false;
+}
+
+}  // namespace
+
+std::vector<float> pointCloudObservationTimes(const mrpt::obs::CObservationPointCloud&) {
+  return {};
+}
+
+ObservationConversion observationToTimedScan(mrpt::obs::CObservation& obs,
+                                             const ScanSourceOptions& options, TimedScan& scan,
+                                             std::string& reason) {
+  const size_t entry = scan.entry_index;
+  scan = TimedScan();
+  scan.entry_index = entry;
+  scan.timestamp = obs.timestamp;
+  scan.sensor_label = obs.sensorLabel;
+  scan.source_class = obs.GetRuntimeClass()->className;
+  // Class names come with their namespace ("mrpt::obs::..."); the short name reads better.
+  const auto colon = scan.source_class.rfind(':');
+  if (colon != std::string::npos) scan.source_class = scan.source_class.substr(colon + 1);
+
+  if (auto* velo = dynamic_cast<mrpt::obs::CObservationVelodyneScan*>(&obs)) {
+    convertVelodyne(*velo, options, scan);
+    return ObservationConversion::kConverted;
+  }
+  if (auto* pco = dynamic_cast<mrpt::obs::CObservationPointCloud*>(&obs)) {
+    pco->load();  // externally stored clouds
+    if (!pco->pointcloud) return ObservationConversion::kConverted;
+    const auto& m = *pco->pointcloud;
+    std::vector<float> times = pointCloudObservationTimes(*pco);
+    if (times.size() != m.size()) times.clear();
+    appendFiltered(pco->sensorPose, m.getPointsBufferRef_x().data(),
+                   m.getPointsBufferRef_y().data(), m.getPointsBufferRef_z().data(),
+                   times.empty() ? nullptr : times.data(), m.size(), options, scan);
+    return ObservationConversion::kConverted;
+  }
+  if (auto* r3d = dynamic_cast<mrpt::obs::CObservation3DRangeScan*>(&obs)) {
+    r3d->load();
+    return convert3DRangeScan(*r3d, options, scan, reason) ? ObservationConversion::kConverted
+                                                           : ObservationConversion::kUnrecoverable;
+  }
+  if (dynamic_cast<mrpt::obs::CObservationRotatingScan*>(&obs)) {
+    reason =
+        "MRPT 2.5 stores no per-ring elevation angles in CObservationRotatingScan (only the range "
+        "image, azimuth span and model name), so its points cannot be recovered; convert the "
+        "source to CObservationVelodyneScan or CObservationPointCloud.";
+    return ObservationConversion::kUnrecoverable;
+  }
+  return ObservationConversion::kUnsupported;
+}
+
+}  // namespace dlo

@@ -1,0 +1,158 @@
+#include "dlo/mrpt/rawlog_scan_source.h"
+
+#include <mrpt/maps/registerAllClasses.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/obs/registerAllClasses.h>
+#include <mrpt/rtti/CObject.h>
+#include <fstream>
+
+#include "dlo/mrpt/input_error.h"
+#include "dlo/mrpt/observation_to_scan.h"
+
+namespace dlo {
+
+namespace {
+
+/// The innermost "Message:" of an MRPT exception (they nest, with stack traces), or the first
+/// line of any other exception: one sentence for a user.
+std::string shortMessage(const std::exception& e) {
+  const std::string what = e.what();
+  const auto at = what.rfind("Message:");
+  std::string line = at == std::string::npos ? what : what.substr(at + 8);
+  line = line.substr(0, line.find('\n'));
+  const auto first = line.find_first_not_of(' ');
+  return first == std::string::npos ? std::string() : line.substr(first);
+}
+
+/// Short class name of a serializable ("CObservationOdometry", without the namespace).
+std::string className(const mrpt::serialization::CSerializable& object) {
+  std::string name = object.GetRuntimeClass()->className;
+  const auto colon = name.rfind(':');
+  return colon == std::string::npos ? name : name.substr(colon + 1);
+}
+
+bool hasGzipMagic(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  unsigned char magic[2] = {0, 0};
+  f.read(reinterpret_cast<char*>(magic), 2);
+  return f.gcount() == 2 && magic[0] == 0x1f && magic[1] == 0x8b;
+}
+
+/// Whether the (decompressed) file starts like a serialized MRPT object: a length byte with the
+/// high bit set, then the name of a registered class. Tells a rawlog whose first entry is
+/// truncated (corrupt, keep going) from a file that is not a rawlog at all (input error).
+bool startsWithMrptObjectHeader(const std::string& path) {
+  mrpt::io::CFileGZInputStream in;
+  if (!in.open(path)) return false;
+  uint8_t length = 0;
+  if (in.Read(&length, 1) != 1 || (length & 0x80) == 0) return false;
+  std::string name(length & 0x7f, '\0');
+  if (name.empty() || in.Read(name.data(), name.size()) != name.size()) return false;
+  return mrpt::rtti::findRegisteredClass(name) != nullptr;
+}
+
+}  // namespace
+
+RawlogScanSource::RawlogScanSource(const std::string& path, const ScanSourceOptions& options)
+    : path_(path), options_(options) {
+  // A static library's registration code is only linked when referenced: make sure every class
+  // a rawlog may hold can be deserialized (else it would read as "corrupt").
+  mrpt::obs::registerAllClasses_mrpt_obs();
+  mrpt::maps::registerAllClasses_mrpt_maps();
+  if (!std::ifstream(path, std::ios::binary)) {
+    throw InputError("cannot open rawlog '" + path + "': no such file or not readable.");
+  }
+  gzipped_ = hasGzipMagic(path);
+  if (!in_.open(path)) throw InputError("cannot open rawlog '" + path + "'.");
+  archive_ = mrpt::serialization::archiveUniquePtrFrom(in_);
+  if (!readEntry() && !stats_.error.empty() && !startsWithMrptObjectHeader(path)) {
+    throw InputError("'" + path +
+                     "' is not an MRPT rawlog: its first entry is not an MRPT object (" +
+                     mrpt_message_ + ").");
+  }
+}
+
+bool RawlogScanSource::readEntry() {
+  object_.reset();
+  if (finished_) return false;
+  const uint64_t start = in_.getPosition();
+  try {
+    object_ = archive_->ReadObject();
+    object_index_ = stats_.entries_read++;
+    return true;
+  } catch (const std::exception& e) {
+    finished_ = true;
+    const uint64_t now = in_.getPosition();
+    // Nothing consumed and at the end: the file ended cleanly between two entries.
+    if (now == start && in_.checkEOF()) return false;
+    const std::string offset =
+        "byte offset " + std::to_string(start) + (gzipped_ ? " of the decompressed stream" : "");
+    stats_.error = "rawlog '" + path_ + "' is corrupt at entry " +
+                   std::to_string(stats_.entries_read) + " (" + offset + "): " +
+                   (in_.checkEOF() ? std::string("the file ends inside that entry (truncated)")
+                                   : "it could not be read (" + shortMessage(e) + ")") +
+                   "; the " + std::to_string(stats_.entries_read) + " entries before it were read.";
+    mrpt_message_ = shortMessage(e);
+    return false;
+  }
+}
+
+void RawlogScanSource::queueObservations() {
+  if (!object_) return;
+  if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(object_)) {
+    for (const auto& o : *sf) {
+      if (o) pending_.push_back(o);
+    }
+  } else if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation>(object_)) {
+    pending_.push_back(o);
+  } else if (!std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(object_)) {
+    // Actions are part of the pair layout, not data to report; anything else is.
+    ++stats_.skipped_by_class[className(*object_)];
+  }
+  object_.reset();
+}
+
+mrpt::obs::CObservation::Ptr RawlogScanSource::nextObservation() {
+  for (;;) {
+    if (!pending_.empty()) {
+      auto o = pending_.front();
+      pending_.pop_front();
+      return o;
+    }
+    queueObservations();
+    if (!pending_.empty()) continue;
+    if (!readEntry()) return nullptr;
+  }
+}
+
+bool RawlogScanSource::next(TimedScan& scan) {
+  for (;;) {
+    const auto obs = nextObservation();
+    if (!obs) return false;
+    // Before conversion: other sensors' observations may be costly to convert.
+    if (!options_.sensor_label.empty() && obs->sensorLabel != options_.sensor_label) {
+      ++stats_.skipped_by_label;
+      continue;
+    }
+    scan.entry_index = object_index_;  // observations of a sensory frame share its entry
+    std::string reason;
+    const ObservationConversion result = observationToTimedScan(*obs, options_, scan, reason);
+    if (result != ObservationConversion::kConverted) {
+      const std::string cls = className(*obs);
+      ++stats_.skipped_by_class[cls];
+      if (result == ObservationConversion::kUnrecoverable) stats_.skip_reasons[cls] = reason;
+      continue;
+    }
+    stats_.dropped_non_finite += scan.dropped_non_finite;
+    stats_.dropped_by_range += scan.dropped_by_range;
+    if (scan.points.empty()) {
+      ++stats_.empty_scans;
+      continue;
+    }
+    ++stats_.scans;
+    return true;
+  }
+}
+
+}  // namespace dlo
