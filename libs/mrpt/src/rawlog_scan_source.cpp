@@ -68,8 +68,7 @@ RawlogScanSource::RawlogScanSource(const std::string& path, const ScanSourceOpti
   archive_ = mrpt::serialization::archiveUniquePtrFrom(in_);
   if (!readEntry() && !stats_.error.empty() && !startsWithMrptObjectHeader(path)) {
     throw InputError("'" + path +
-                     "' is not an MRPT rawlog: its first entry is not an MRPT object (" +
-                     mrpt_message_ + ").");
+                     "' is not an MRPT rawlog: it does not start with a serialized MRPT object.");
   }
 }
 
@@ -93,7 +92,6 @@ bool RawlogScanSource::readEntry() {
                    (in_.checkEOF() ? std::string("the file ends inside that entry (truncated)")
                                    : "it could not be read (" + shortMessage(e) + ")") +
                    "; the " + std::to_string(stats_.entries_read) + " entries before it were read.";
-    mrpt_message_ = shortMessage(e);
     return false;
   }
 }

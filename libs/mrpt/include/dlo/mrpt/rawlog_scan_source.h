@@ -58,7 +58,6 @@ class RawlogScanSource : public ScanSource {
   size_t object_index_ = 0;  ///< Entry index of object_.
   std::deque<mrpt::obs::CObservation::Ptr> pending_;
   bool finished_ = false;
-  std::string mrpt_message_;  ///< MRPT's own words for the failure, for the not-a-rawlog case.
   ScanSourceStats stats_;
 };
 
