@@ -1,0 +1,220 @@
+// dlo-simulate: writes a simulated rotating-LiDAR sequence (MRPT rawlog + TUM ground truth).
+#include <mrpt/io/CFileOutputStream.h>
+#include <mrpt/serialization/CArchive.h>
+#include <chrono>
+#include <cinttypes>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+
+#include "dlo/sim/lidar_model.h"
+#include "dlo/sim/procedural_world.h"
+#include "dlo/sim/route.h"
+#include "dlo/sim/sweep_simulator.h"
+#include "dlo/sim/vehicle_trajectory.h"
+#include "velodyne_packets.h"
+
+namespace {
+
+constexpr const char* kUsage =
+    R"(Usage: dlo-simulate --out DIR [--frames N] [--sensor HDL64|HDL32|VLP16] [--seed S]
+                    [--threads T] [--quiet] [--help]
+
+Simulates a LiDAR on a car driving laps around a 60 x 40 m block of a procedural town on
+rolling hills (roads with crown and kerbs, buildings, trees, poles, parked and moving cars),
+and writes:
+  DIR/sequence.rawlog   one mrpt::obs::CObservationVelodyneScan per sweep (label "LIDAR"),
+                        genuine Velodyne packets with motion distortion, range noise and
+                        dropouts; decode with generatePointCloud() (points in the sensor frame,
+                        sensorPose = mounting on the vehicle)
+  DIR/groundtruth.tum   "timestamp x y z qx qy qz qw" of the vehicle frame in the world at
+                        each sweep's reference time (its first firing)
+
+Options:
+  --out DIR      output folder (created if missing)
+  --frames N     number of sweeps, 10 per second (default 300)
+  --sensor S     VLP16, HDL32 or HDL64 (default HDL64)
+  --seed S       world and noise seed; the same seed gives byte-identical files (default 1)
+  --threads T    worker threads (default 2); the output does not depend on it
+  --quiet        no progress on stderr
+  --help         prints this text
+
+Exit status: 0 on success, 1 for a bad argument or an output that cannot be written; errors
+are one line on stderr starting with "dlo-simulate: ".
+)";
+
+/// A mistake the user can fix: one sentence, exit status 1.
+struct UserError {
+  std::string message;
+};
+
+struct Arguments {
+  std::string out;
+  int frames = 300;
+  dlo::sim::SensorType sensor = dlo::sim::SensorType::HDL64;
+  uint32_t seed = 1;
+  int threads = 2;
+  bool quiet = false;
+  bool help = false;
+};
+
+long parseInteger(const std::string& name, const std::string& text, long lo, long hi,
+                  const std::string& expected) {
+  try {
+    size_t used = 0;
+    const long v = std::stol(text, &used);
+    if (used == text.size() && v >= lo && v <= hi) return v;
+  } catch (const std::exception&) {
+  }
+  throw UserError{name + " must be " + expected + ", got '" + text + "'."};
+}
+
+Arguments parseArguments(int argc, char** argv) {
+  Arguments a;
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") {
+      a.help = true;
+      return a;
+    }
+    if (arg == "--quiet") {
+      a.quiet = true;
+      continue;
+    }
+    std::string value;
+    const auto eq = arg.find('=');
+    if (eq != std::string::npos && arg.rfind("--", 0) == 0) {
+      value = arg.substr(eq + 1);
+      arg = arg.substr(0, eq);
+    } else if (arg == "--out" || arg == "--frames" || arg == "--sensor" || arg == "--seed" ||
+               arg == "--threads") {
+      if (i + 1 >= argc) throw UserError{arg + " needs a value."};
+      value = argv[++i];
+    }
+    if (arg == "--out") {
+      a.out = value;
+    } else if (arg == "--frames") {
+      a.frames = static_cast<int>(parseInteger("--frames", value, 1, 10000000, "an integer >= 1"));
+    } else if (arg == "--sensor") {
+      const auto s = dlo::sim::parseSensorType(value);
+      if (!s) throw UserError{"--sensor must be VLP16, HDL32 or HDL64, got '" + value + "'."};
+      a.sensor = *s;
+    } else if (arg == "--seed") {
+      a.seed = static_cast<uint32_t>(
+          parseInteger("--seed", value, 0, 4294967295L, "an integer in [0, 4294967295]"));
+    } else if (arg == "--threads") {
+      a.threads =
+          static_cast<int>(parseInteger("--threads", value, 1, 64, "an integer in [1, 64]"));
+    } else {
+      throw UserError{"unknown argument '" + arg + "' (see --help)."};
+    }
+  }
+  if (a.out.empty()) throw UserError{"--out DIR is required (see --help)."};
+  return a;
+}
+
+/// "seconds.nanoseconds" without going through a double.
+std::string tumTimestamp(int64_t epochSeconds, int64_t ns) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%" PRId64 ".%09" PRId64, epochSeconds + ns / 1000000000,
+                ns % 1000000000);
+  return buf;
+}
+
+std::string tumLine(const std::string& stamp, const Eigen::Isometry3d& pose) {
+  Eigen::Quaterniond q(pose.linear());
+  q.normalize();
+  if (q.w() < 0) q.coeffs() *= -1.0;  // One sign, so that files compare equal.
+  const Eigen::Vector3d t = pose.translation();
+  char buf[256];
+  std::snprintf(buf, sizeof(buf), "%s %.6f %.6f %.6f %.9f %.9f %.9f %.9f\n", stamp.c_str(), t.x(),
+                t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
+  return buf;
+}
+
+int run(const Arguments& a) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(a.out, ec);
+  if (ec) throw UserError{"--out: cannot create directory '" + a.out + "': " + ec.message() + "."};
+  const fs::path rawlogPath = fs::path(a.out) / "sequence.rawlog";
+  const fs::path tumPath = fs::path(a.out) / "groundtruth.tum";
+  const fs::path rawlogTmp = rawlogPath.string() + ".part", tumTmp = tumPath.string() + ".part";
+
+  mrpt::io::CFileOutputStream rawlog;
+  if (!rawlog.open(rawlogTmp.string())) {
+    throw UserError{"--out: cannot write to directory '" + a.out + "'."};
+  }
+  std::FILE* tum = std::fopen(tumTmp.string().c_str(), "w");
+  if (!tum) throw UserError{"--out: cannot write to directory '" + a.out + "'."};
+
+  // A whole hour (2024-01-01T00:00:00Z), so that the packets' "microseconds since the top of
+  // the hour" equal the time since the start, modulo one hour.
+  constexpr int64_t kEpochSeconds = 1704067200;
+  const mrpt::Clock::time_point epoch = mrpt::Clock::fromDouble(static_cast<double>(kEpochSeconds));
+
+  const auto world = dlo::sim::ProceduralWorld::generate(a.seed);
+  const dlo::sim::WorldParams layout;
+  const auto route = dlo::sim::Route::roundedRectangle(layout.loopMin, layout.loopMax, 10.0);
+  const dlo::sim::VehicleTrajectory trajectory(route, world.terrain());
+  dlo::sim::SweepSimulatorParams params;
+  params.model = dlo::sim::makeLidarModel(a.sensor);
+  params.seed = a.seed;
+  params.threads = a.threads;
+  const dlo::sim::SweepSimulator simulator(world, trajectory, params);
+
+  std::fprintf(tum,
+               "# dlo-simulate ground truth: timestamp x y z qx qy qz qw of the vehicle "
+               "frame in the world, sensor %s, seed %u, sensor mounted at x=%.2f y=%.2f "
+               "z=%.2f on the vehicle\n",
+               params.model.name.c_str(), a.seed, trajectory.geometry().sensorPosition.x(),
+               trajectory.geometry().sensorPosition.y(), trajectory.geometry().sensorPosition.z());
+
+  auto archive = mrpt::serialization::archiveFrom(rawlog);
+  const auto start = std::chrono::steady_clock::now();
+  for (int k = 0; k < a.frames; ++k) {
+    const dlo::sim::Sweep sweep = simulator.simulate(k);
+    const auto obs =
+        dlo::toVelodyneScan(sweep, simulator, trajectory.sensorMount(), epoch, "LIDAR");
+    archive << *obs;
+    const Eigen::Isometry3d pose =
+        trajectory.vehiclePose(static_cast<double>(sweep.referenceTimeNs) * 1e-9);
+    std::fputs(tumLine(tumTimestamp(kEpochSeconds, sweep.referenceTimeNs), pose).c_str(), tum);
+    if (!a.quiet && ((k + 1) % 10 == 0 || k + 1 == a.frames)) {
+      const double s =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::fprintf(stderr, "dlo-simulate: %d / %d frames, %.1f frames/s\n", k + 1, a.frames,
+                   (k + 1) / std::max(s, 1e-9));
+    }
+  }
+  rawlog.close();
+  const bool tumOk = std::fclose(tum) == 0;
+  if (!tumOk) throw UserError{"--out: failed writing '" + tumTmp.string() + "'."};
+  fs::rename(rawlogTmp, rawlogPath, ec);
+  if (!ec) fs::rename(tumTmp, tumPath, ec);
+  if (ec)
+    throw UserError{"--out: cannot rename the output files in '" + a.out + "': " + ec.message() +
+                    "."};
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const Arguments a = parseArguments(argc, argv);
+    if (a.help) {
+      std::cout << kUsage;
+      return 0;
+    }
+    return run(a);
+  } catch (const UserError& e) {
+    std::cerr << "dlo-simulate: " << e.message << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "dlo-simulate: " << e.what() << "\n";
+    return 1;
+  }
+}
