@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "dlo/mrpt/input_error.h"
+#include "dlo/mrpt/kitti_bin.h"
 #include "dlo/mrpt/ply_file.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 
@@ -51,29 +52,13 @@ ScanFormat scanFormatFromPath(const std::string& path) {
 }
 
 PointCloud loadKittiBin(const std::string& path, size_t* dropped_non_finite) {
-  requireReadable(path);
-  mrpt::io::CFileGZInputStream in;
-  if (!in.open(path)) throw InputError("cannot open KITTI file '" + path + "'.");
-  std::vector<char> bytes;
-  constexpr size_t kChunk = 1 << 20;
-  for (;;) {
-    const size_t old = bytes.size();
-    bytes.resize(old + kChunk);
-    const size_t got = in.Read(bytes.data() + old, kChunk);
-    bytes.resize(old + got);
-    if (got == 0) break;
-  }
-  if (bytes.size() % 16 != 0) {
-    throw InputError("KITTI file '" + path + "' holds " + std::to_string(bytes.size()) +
-                     " bytes, not a multiple of 16 (float32 x, y, z, reflectance per point).");
-  }
-  const size_t n = bytes.size() / 16;
+  const std::vector<float> records = readKittiBinRecords(path);
+  const size_t n = records.size() / 4;
   PointCloud out;
   out.reserve(n);
   size_t dropped = 0;
   for (size_t i = 0; i < n; ++i) {
-    float v[4];
-    std::copy_n(bytes.data() + 16 * i, 16, reinterpret_cast<char*>(v));
+    const float* v = &records[4 * i];
     if (std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2])) {
       out.emplace_back(v[0], v[1], v[2]);
     } else {

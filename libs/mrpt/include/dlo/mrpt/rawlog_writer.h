@@ -1,0 +1,46 @@
+/// \file rawlog_writer.h
+/// \brief Writing an observation-only MRPT rawlog safely: to a temporary file, renamed at the end.
+#pragma once
+
+#include <mrpt/io/CStream.h>
+#include <mrpt/obs/CObservation.h>
+#include <mrpt/serialization/CArchive.h>
+#include <memory>
+#include <string>
+
+namespace dlo {
+
+/// Streams observations into `path` (observation-only layout; gzip-compressed if the name ends in
+/// `.gz`). They go to `path + ".tmp"` first and commit() renames it, so an existing `path` is
+/// never replaced by a half-written file. If the writer is destroyed without commit() (an error
+/// part way), whatever was written is kept as `path + ".partial"` rather than lost.
+class RawlogWriter {
+ public:
+  /// \throws InputError naming the file if the temporary file cannot be created.
+  explicit RawlogWriter(const std::string& path);
+  ~RawlogWriter();
+  RawlogWriter(const RawlogWriter&) = delete;
+  RawlogWriter& operator=(const RawlogWriter&) = delete;
+
+  /// Appends one observation.
+  void write(const mrpt::obs::CObservation& obs);
+
+  /// Observations written so far.
+  size_t count() const { return count_; }
+
+  /// Closes the file and renames it to the final path. \throws InputError if renaming fails.
+  void commit();
+
+  /// Where the observations written so far are kept if commit() is never called.
+  std::string partialPath() const { return path_ + ".partial"; }
+
+ private:
+  std::string path_;
+  std::string temp_path_;
+  std::unique_ptr<mrpt::io::CStream> out_;
+  std::unique_ptr<mrpt::serialization::CArchive> archive_;
+  size_t count_ = 0;
+  bool committed_ = false;
+};
+
+}  // namespace dlo

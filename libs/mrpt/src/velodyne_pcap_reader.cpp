@@ -1,0 +1,112 @@
+#include "dlo/mrpt/velodyne_pcap_reader.h"
+
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/hwdrivers/CVelodyneScanner.h>
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+
+#include "dlo/mrpt/input_error.h"
+#include "dlo/mrpt/observation_to_scan.h"
+
+namespace dlo {
+
+namespace {
+
+const char* modelName(VelodyneModel model) {
+  switch (model) {
+    case VelodyneModel::kHDL32:
+      return "HDL32";
+    case VelodyneModel::kHDL64:
+      return "HDL64";
+    default:
+      return "VLP16";
+  }
+}
+
+/// The sentence after "Error opening PCAP file:" in MRPT's multi-line exception text.
+std::string pcapReason(const std::string& what) {
+  const auto at = what.find("Error opening PCAP file:");
+  std::string line = at == std::string::npos ? what : what.substr(at + 24);
+  line = line.substr(0, line.find('\n'));
+  const auto first = line.find_first_not_of(" '");
+  const auto last = line.find_last_not_of(" '");
+  return first == std::string::npos ? line : line.substr(first, last - first + 1);
+}
+
+}  // namespace
+
+VelodyneModel parseVelodyneModel(const std::string& name) {
+  std::string upper = name;
+  std::transform(upper.begin(), upper.end(), upper.begin(),
+                 [](unsigned char c) { return std::toupper(c); });
+  if (upper == "VLP16") return VelodyneModel::kVLP16;
+  if (upper == "HDL32") return VelodyneModel::kHDL32;
+  if (upper == "HDL64") return VelodyneModel::kHDL64;
+  throw InputError("unknown Velodyne model '" + name + "': expected VLP16, HDL32 or HDL64.");
+}
+
+VelodynePcapReader::VelodynePcapReader(const std::string& path, VelodyneModel model)
+    : scanner_(std::make_unique<mrpt::hwdrivers::CVelodyneScanner>()) {
+  if (!std::ifstream(path, std::ios::binary)) {
+    throw InputError("cannot open pcap '" + path + "': no such file or not readable.");
+  }
+  // pcap_read_fast has no setter in MRPT 2.5; without it the driver sleeps 100 ms per rotation.
+  mrpt::config::CConfigFileMemory cfg;
+  cfg.write("velodyne", "model", modelName(model));
+  cfg.write("velodyne", "pcap_input", path);
+  cfg.write("velodyne", "pcap_read_once", true);
+  cfg.write("velodyne", "pcap_read_fast", true);
+  try {
+    scanner_->loadConfig(cfg, "velodyne");
+    scanner_->setPCAPVerbosity(false);
+    scanner_->initialize();
+  } catch (const std::exception& e) {
+    throw InputError("'" + path + "' is not a readable pcap capture (" + pcapReason(e.what()) +
+                     ").");
+  }
+}
+
+VelodynePcapReader::~VelodynePcapReader() = default;
+
+mrpt::obs::CObservationVelodyneScan::Ptr VelodynePcapReader::next() {
+  while (!finished_) {
+    mrpt::obs::CObservationVelodyneScan::Ptr scan;
+    mrpt::obs::CObservationGPS::Ptr gps;
+    if (!scanner_->getNextObservation(scan, gps)) {
+      finished_ = true;  // end of the capture (or a read error, which the driver reports so)
+      break;
+    }
+    if (gps) ++gps_packets_;
+    if (scan) return scan;
+  }
+  return nullptr;
+}
+
+VelodynePcapScanSource::VelodynePcapScanSource(const std::string& path, VelodyneModel model,
+                                               const ScanSourceOptions& options)
+    : reader_(path, model), options_(options) {}
+
+bool VelodynePcapScanSource::next(TimedScan& scan) {
+  for (;;) {
+    const auto obs = reader_.next();
+    if (!obs) return false;
+    scan.entry_index = stats_.entries_read++;
+    if (!options_.sensor_label.empty() && obs->sensorLabel != options_.sensor_label) {
+      ++stats_.skipped_by_label;
+      continue;
+    }
+    std::string reason;
+    observationToTimedScan(*obs, options_, scan, reason);
+    stats_.dropped_non_finite += scan.dropped_non_finite;
+    stats_.dropped_by_range += scan.dropped_by_range;
+    if (scan.points.empty()) {
+      ++stats_.empty_scans;
+      continue;
+    }
+    ++stats_.scans;
+    return true;
+  }
+}
+
+}  // namespace dlo
