@@ -22,9 +22,8 @@ HeightGrid gridOf(const GridGeometry& geo, F f, std::vector<std::uint32_t> count
 
 TEST(GradientField, CentralDifferencesRecoverTheSlopeOfARampInMetresPerMetre) {
   const GridGeometry geo = GridGeometry::centred(20, 20, 0.1);
-  const GradientField g = computeGradients(gridOf(geo, [](double x, double y) {
-    return 0.3 * x - 0.2 * y + 1.0;
-  }));
+  const GradientField g =
+      computeGradients(gridOf(geo, [](double x, double y) { return 0.3 * x - 0.2 * y + 1.0; }));
   ASSERT_TRUE(g.isValid(10, 10));
   EXPECT_NEAR(g.at(10, 10).gx, 0.3f, 1e-4f);
   EXPECT_NEAR(g.at(10, 10).gy, -0.2f, 1e-4f);
@@ -35,8 +34,8 @@ TEST(GradientField, IsMaskedNextToEmptyCellsAndOnTheBorder) {
   const GridGeometry geo = GridGeometry::centred(10, 10, 1.0);
   std::vector<std::uint32_t> counts(geo.cellCount(), 5u);
   counts[5 * 10 + 6] = 0;  // an empty cell right of (5, 5)
-  const GradientField g =
-      computeGradients(gridOf(geo, [](double x, double) { return x; }, counts));
+  const GradientField g = computeGradients(gridOf(
+      geo, [](double x, double) { return x; }, counts));
   EXPECT_FALSE(g.isValid(5, 5));  // its neighbour is empty: no artificial edge
   EXPECT_FALSE(g.isValid(5, 7));
   EXPECT_FALSE(g.isValid(4, 6));

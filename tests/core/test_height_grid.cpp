@@ -11,7 +11,9 @@ namespace {
 
 // A 10 x 10 grid of 1 m cells centred on the origin: cell (r, c) covers
 // x in [c - 5, c - 4), y in [r - 5, r - 4).
-GridGeometry tenByTen() { return GridGeometry::centred(10, 10, 1.0); }
+GridGeometry tenByTen() {
+  return GridGeometry::centred(10, 10, 1.0);
+}
 
 PointCloud pointsInCell(int row, int col, const std::vector<float>& heights) {
   PointCloud pts;
@@ -67,7 +69,7 @@ TEST(HeightGrid, PointsOnCellBoundariesGoToTheUpperCell) {
 
 TEST(HeightGrid, CoarserLevelIsTheMeanOfAllPointsOfItsFourCells) {
   PointCloud pts = pointsInCell(0, 0, {1.0f, 1.0f, 1.0f, 1.0f});  // 4 points, mean 1
-  const PointCloud b = pointsInCell(1, 1, {4.0f, 4.0f});           // 2 points: invalid alone
+  const PointCloud b = pointsInCell(1, 1, {4.0f, 4.0f});          // 2 points: invalid alone
   pts.insert(pts.end(), b.begin(), b.end());
   const HeightGrid fine = HeightGrid::fromPoints(pts, tenByTen(), 3, -10, 10);
   EXPECT_FALSE(fine.isValid(1, 1));

@@ -52,9 +52,8 @@ void expectJacobiansMatch(const HeightFrame& ref, double tolerance, unsigned see
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> pos(-12.0, 12.0), height(-2.0, 3.0), ang(-0.3, 0.3);
   for (int trial = 0; trial < 200; ++trial) {
-    const Eigen::Isometry3d T =
-        poseFromXYZYPR(pos(rng) * 0.2, pos(rng) * 0.2, ang(rng), ang(rng) * 3, ang(rng) * 0.3,
-                       ang(rng) * 0.3);
+    const Eigen::Isometry3d T = poseFromXYZYPR(pos(rng) * 0.2, pos(rng) * 0.2, ang(rng),
+                                               ang(rng) * 3, ang(rng) * 0.3, ang(rng) * 0.3);
     const SelectedCell cell{static_cast<float>(pos(rng)), static_cast<float>(pos(rng)),
                             static_cast<float>(height(rng))};
     double e = 0.0;
@@ -84,7 +83,8 @@ TEST(HeightResidualJacobian, MatchesNumericalDifferentiationIn6DofOnAPlane) {
 // interpolant to O(res^2): agreement within a couple of percent.
 TEST(HeightResidualJacobian, MatchesNumericalDifferentiationIn6DofOnACurvedSurface) {
   expectJacobiansMatch<6>(referenceOf([](double x, double y) {
-                            return 0.8 * std::sin(0.25 * x) + 0.5 * std::cos(0.2 * y) + 0.01 * x * y;
+                            return 0.8 * std::sin(0.25 * x) + 0.5 * std::cos(0.2 * y) +
+                                   0.01 * x * y;
                           }),
                           3e-2, 3);
 }
@@ -127,7 +127,7 @@ TEST(RigidTransform, CovarianceOfYawMapsToYawAtIdentity) {
   const Matrix6d out = twistCovarianceToXYZYPR(Eigen::Isometry3d::Identity(), cov);
   EXPECT_NEAR(out(3, 3), 0.01, 1e-8);  // yaw
   EXPECT_NEAR(out(0, 0), 0.04, 1e-8);
-  EXPECT_NEAR(out(5, 5), 0.0, 1e-8);   // roll
+  EXPECT_NEAR(out(5, 5), 0.0, 1e-8);  // roll
 }
 
 }  // namespace

@@ -45,10 +45,11 @@ class RealScanRegistration : public ::testing::TestWithParam<Motion> {
     const Eigen::Isometry3d err = truth.inverse() * r.pose;
     const double dt = err.translation().norm();
     const double dr = Eigen::AngleAxisd(err.linear()).angle() / kDeg;
-    std::printf("ratio %.2e dof %d motion (%.2f %.2f %.2f | %.1f %.1f %.1f): err %.4f m %.4f deg, it %d, "
-                "cells %d, rms %.4f, solve %.2f ms\n",
-                r.information_ratio, dof, m.x, m.y, z, m.yaw_deg, pitch / kDeg, roll / kDeg, dt, dr, r.iterations,
-                r.cells, r.rms_height_error, r.times.solve_ms);
+    std::printf(
+        "ratio %.2e dof %d motion (%.2f %.2f %.2f | %.1f %.1f %.1f): err %.4f m %.4f deg, it %d, "
+        "cells %d, rms %.4f, solve %.2f ms\n",
+        r.information_ratio, dof, m.x, m.y, z, m.yaw_deg, pitch / kDeg, roll / kDeg, dt, dr,
+        r.iterations, r.cells, r.rms_height_error, r.times.solve_ms);
     EXPECT_LT(dt, 0.03);
     EXPECT_LT(dr, 0.1);
     EXPECT_FALSE(r.degenerate);
@@ -57,8 +58,12 @@ class RealScanRegistration : public ::testing::TestWithParam<Motion> {
 PointCloud* RealScanRegistration::even_ = new PointCloud;
 PointCloud* RealScanRegistration::odd_ = new PointCloud;
 
-TEST_P(RealScanRegistration, RecoversKnownMotionIn3Dof) { recover(3); }
-TEST_P(RealScanRegistration, RecoversKnownMotionIn6Dof) { recover(6); }
+TEST_P(RealScanRegistration, RecoversKnownMotionIn3Dof) {
+  recover(3);
+}
+TEST_P(RealScanRegistration, RecoversKnownMotionIn6Dof) {
+  recover(6);
+}
 
 INSTANTIATE_TEST_SUITE_P(UpTo2mAnd10deg, RealScanRegistration,
                          ::testing::Values(Motion{0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
@@ -137,8 +142,8 @@ TEST(DegenerateScene, ACorridorKeepsThePriorAlongItsAxisButFixesTheRest) {
 TEST(RealScanRegistration, AnEmptyCurrentScanIsDegenerateAndKeepsTheGuess) {
   DloParams params;
   const HeightFrame ref =
-      HeightFrame::fromPoints(loadKittiBin(test::sharedData("kitti_00_000000.bin.gz")),
-                              params.grid, params.selection, false);
+      HeightFrame::fromPoints(loadKittiBin(test::sharedData("kitti_00_000000.bin.gz")), params.grid,
+                              params.selection, false);
   const HeightFrame cur = HeightFrame::fromPoints({}, params.grid, params.selection, false);
   EXPECT_TRUE(cur.empty());
   const Eigen::Isometry3d guess = poseFromXYZYPR(1.0, 0.0, 0.0, 0.1, 0.0, 0.0);

@@ -8,11 +8,19 @@ std::vector<SelectedCell> selectHighGradientCells(const HeightGrid& grid,
                                                   const GradientField& gradients,
                                                   const SelectionParams& params,
                                                   bool include_ground) {
+  std::vector<SelectedCell> cells;
+  selectHighGradientCells(grid, gradients, params, include_ground, cells);
+  return cells;
+}
+
+void selectHighGradientCells(const HeightGrid& grid, const GradientField& gradients,
+                             const SelectionParams& params, bool include_ground,
+                             std::vector<SelectedCell>& cells) {
   const GridGeometry& geo = grid.geometry();
   const int bs = std::max(1, params.block_size);
   const float min_sq = static_cast<float>(params.min_gradient * params.min_gradient);
   const std::vector<std::uint8_t>& measured = grid.validMask();
-  std::vector<SelectedCell> cells;
+  cells.clear();
   cells.reserve(static_cast<size_t>(geo.cellCount() / (bs * bs) + 1));
   auto make_cell = [&](int r, int c) {
     return SelectedCell{static_cast<float>(geo.cellCentreX(c)),
@@ -40,20 +48,18 @@ std::vector<SelectedCell> selectHighGradientCells(const HeightGrid& grid,
       }
     }
     for (int b = 0; b < block_cols; ++b) {
-      if (best_index[b] >= 0) cells.push_back(make_cell(best_index[b] / geo.cols, best_index[b] % geo.cols));
+      if (best_index[b] >= 0)
+        cells.push_back(make_cell(best_index[b] / geo.cols, best_index[b] % geo.cols));
     }
   }
   // Even thinning: keep every k-th cell in scan order (a fractional stride), which preserves the
   // spatial distribution, unlike keeping the strongest.
   const size_t cap = static_cast<size_t>(std::max(0, params.max_cells));
   if (cells.size() > cap) {
-    std::vector<SelectedCell> thinned;
-    thinned.reserve(cap);
+    // In place: the source index k * stride never falls behind k.
     const double stride = static_cast<double>(cells.size()) / static_cast<double>(cap);
-    for (size_t k = 0; k < cap; ++k) {
-      thinned.push_back(cells[static_cast<size_t>(k * stride)]);
-    }
-    cells.swap(thinned);
+    for (size_t k = 0; k < cap; ++k) cells[k] = cells[static_cast<size_t>(k * stride)];
+    cells.resize(cap);
   }
   if (include_ground && params.ground_stride > 0) {
     const int s = params.ground_stride;
@@ -66,7 +72,6 @@ std::vector<SelectedCell> selectHighGradientCells(const HeightGrid& grid,
       }
     }
   }
-  return cells;
 }
 
 }  // namespace dlo

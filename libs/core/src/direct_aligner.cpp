@@ -30,8 +30,7 @@ struct NormalEquations {
 
 template <int N>
 NormalEquations<N> linearise(const HeightSampler& sampler, const std::vector<SelectedCell>& cells,
-                             const Eigen::Isometry3d& T, double huber_delta,
-                             double max_residual) {
+                             const Eigen::Isometry3d& T, double huber_delta, double max_residual) {
   NormalEquations<N> eq;
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
@@ -55,7 +54,8 @@ NormalEquations<N> linearise(const HeightSampler& sampler, const std::vector<Sel
     }
     const bool inner = ae <= delta;
     const float w = inner ? 1.0f : delta / ae;  // Huber
-    eq.cost += inner ? 0.5 * static_cast<double>(e * e) : static_cast<double>(delta * (ae - 0.5f * delta));
+    eq.cost +=
+        inner ? 0.5 * static_cast<double>(e * e) : static_cast<double>(delta * (ae - 0.5f * delta));
     Hf.template selfadjointView<Eigen::Upper>().rankUpdate(J, w);
     bf.noalias() += (w * e) * J;
     eq.weighted_sq += static_cast<double>(w * e * e);
@@ -211,8 +211,7 @@ AlignmentResult alignImpl(const SolverParams& p, const HeightFrame& reference,
   Stopwatch sw;
   AlignmentResult res;
   Eigen::Isometry3d T = initial_guess;
-  const int levels =
-      static_cast<int>(std::min(reference.levels().size(), current.levels().size()));
+  const int levels = static_cast<int>(std::min(reference.levels().size(), current.levels().size()));
   if (levels == 0) {
     res.degenerate = true;
     res.covariance = Matrix6d::Identity() * kUnobservedVariance;
@@ -226,9 +225,8 @@ AlignmentResult alignImpl(const SolverParams& p, const HeightFrame& reference,
   }
   res.converged = refine<N>(p, reference, current, levels - 1, 0, T, res.iterations);
   // Statistics and covariance at the solution, on the finest level.
-  const NormalEquations<N> eq = linearise<N>(reference.levels()[0].sampler,
-                                             current.levels()[0].cells, T, p.huber_delta,
-                                             p.max_residual);
+  const NormalEquations<N> eq = linearise<N>(
+      reference.levels()[0].sampler, current.levels()[0].cells, T, p.huber_delta, p.max_residual);
   const ConditionedSystem<N> sys(eq, p, p.min_cells);
   res.cells = eq.n;
   res.rms_height_error = eq.n > 0 ? std::sqrt(eq.sq / eq.n) : 0.0;

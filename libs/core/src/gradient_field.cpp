@@ -4,10 +4,15 @@ namespace dlo {
 
 GradientField computeGradients(const HeightGrid& grid) {
   GradientField f;
+  computeGradients(grid, f);
+  return f;
+}
+
+void computeGradients(const HeightGrid& grid, GradientField& f) {
   f.cols = grid.cols();
   f.rows = grid.rows();
   const int cols = f.cols;
-  f.cells.resize(static_cast<size_t>(cols) * f.rows, GradientCell{0.0f, 0.0f, 0.0f, 0.0f});
+  f.cells.assign(static_cast<size_t>(cols) * f.rows, GradientCell{0.0f, 0.0f, 0.0f, 0.0f});
   const float k = static_cast<float>(0.5 / grid.resolution());
   const float* h = grid.heights().data();
   const std::uint8_t* ok = grid.supportMask().data();
@@ -22,7 +27,6 @@ GradientField computeGradients(const HeightGrid& grid) {
                             m * (h[i + cols] - h[i - cols]) * k, m};
     }
   }
-  return f;
 }
 
 }  // namespace dlo

@@ -10,6 +10,13 @@ namespace dlo {
 HeightGrid HeightGrid::fromPoints(const PointCloud& points, const GridGeometry& geometry,
                                   int min_points, double min_z, double max_z) {
   HeightGrid g;
+  g.rasterise(points, geometry, min_points, min_z, max_z);
+  return g;
+}
+
+void HeightGrid::rasterise(const PointCloud& points, const GridGeometry& geometry, int min_points,
+                           double min_z, double max_z) {
+  HeightGrid& g = *this;
   g.geometry_ = geometry;
   g.min_points_ = min_points;
   const int n = geometry.cellCount();
@@ -36,7 +43,6 @@ HeightGrid HeightGrid::fromPoints(const PointCloud& points, const GridGeometry& 
     sum[idx] += p.z();
   }
   g.finalise();
-  return g;
 }
 
 HeightGrid HeightGrid::fromCells(const GridGeometry& geometry,
@@ -48,8 +54,8 @@ HeightGrid HeightGrid::fromCells(const GridGeometry& geometry,
   const int n = geometry.cellCount();
   g.count_.assign(n, 0u);
   g.sum_z_.assign(n, 0.0f);
-  for (int i = 0; i < n && i < static_cast<int>(mean_heights.size()) &&
-                  i < static_cast<int>(counts.size());
+  for (int i = 0;
+       i < n && i < static_cast<int>(mean_heights.size()) && i < static_cast<int>(counts.size());
        ++i) {
     if (!std::isfinite(mean_heights[i])) continue;
     g.count_[i] = counts[i];
@@ -61,23 +67,35 @@ HeightGrid HeightGrid::fromCells(const GridGeometry& geometry,
 
 HeightGrid HeightGrid::coarser() const {
   HeightGrid g;
-  g.geometry_ = geometry_.coarser();
-  g.min_points_ = min_points_;
+  g.poolFrom(*this);
+  return g;
+}
+
+void HeightGrid::poolFrom(const HeightGrid& finer) {
+  HeightGrid& g = *this;
+  g.geometry_ = finer.geometry_.coarser();
+  g.min_points_ = finer.min_points_;
   const int n = g.geometry_.cellCount();
   g.count_.assign(n, 0u);
   g.sum_z_.assign(n, 0.0f);
-  const int cols = geometry_.cols;
-  for (int r = 0; r < geometry_.rows; ++r) {
+  const int cols = finer.geometry_.cols;
+  for (int r = 0; r < finer.geometry_.rows; ++r) {
     const int cr = (r / 2) * g.geometry_.cols;
-    const std::uint32_t* cnt = &count_[r * cols];
-    const float* sum = &sum_z_[r * cols];
-    for (int c = 0; c < cols; ++c) {
-      g.count_[cr + c / 2] += cnt[c];
-      g.sum_z_[cr + c / 2] += sum[c];
+    const std::uint32_t* cnt = &finer.count_[r * cols];
+    const float* sum = &finer.sum_z_[r * cols];
+    std::uint32_t* gc = &g.count_[cr];
+    float* gs = &g.sum_z_[cr];
+    const int pairs = cols / 2;
+    for (int j = 0; j < pairs; ++j) {
+      gc[j] += cnt[2 * j] + cnt[2 * j + 1];
+      gs[j] += sum[2 * j] + sum[2 * j + 1];
+    }
+    if (cols % 2 != 0) {
+      gc[pairs] += cnt[cols - 1];
+      gs[pairs] += sum[cols - 1];
     }
   }
   g.finalise();
-  return g;
 }
 
 void HeightGrid::finalise() {
@@ -88,7 +106,9 @@ void HeightGrid::finalise() {
   int valid_cells = 0;
   for (int i = 0; i < n; ++i) {
     const bool ok = count_[i] >= need;
-    height_[i] = ok ? sum_z_[i] / static_cast<float>(count_[i]) : 0.0f;
+    // Through int: SSE2 converts signed integers to float in one instruction, unsigned not.
+    const float cnt = static_cast<float>(static_cast<std::int32_t>(count_[i]));
+    height_[i] = ok ? sum_z_[i] / std::max(cnt, 1.0f) : 0.0f;
     valid_[i] = ok ? 1u : 0u;
     valid_cells += ok ? 1 : 0;
   }
@@ -106,8 +126,10 @@ void HeightGrid::fillHolesFrom(const HeightGrid& coarser) {
     throw std::invalid_argument("HeightGrid::fillHolesFrom needs the grid's own coarser() level");
   }
   const int pc = cg.cols + 2;
-  std::vector<float> sh(static_cast<size_t>(pc) * (cg.rows + 2), 0.0f);
-  std::vector<float> s(sh.size(), 0.0f);
+  // Scratch kept across calls: streaming frames should not hand memory back to the system.
+  thread_local std::vector<float> sh, s, vs, vh;
+  sh.assign(static_cast<size_t>(pc) * (cg.rows + 2), 0.0f);
+  s.assign(sh.size(), 0.0f);
   for (int r = 0; r < cg.rows; ++r) {
     for (int c = 0; c < cg.cols; ++c) {
       const int j = r * cg.cols + c;
@@ -122,27 +144,61 @@ void HeightGrid::fillHolesFrom(const HeightGrid& coarser) {
   // Per fine row: blend the two coarse rows around it (weights 3/4, 1/4), then blend
   // horizontally; even fine columns lie 3/4 of the way to padded coarse column c/2 + 1, odd
   // ones 1/4 of the way to it.
-  std::vector<float> vs(static_cast<size_t>(pc)), vh(static_cast<size_t>(pc));
+  vs.resize(static_cast<size_t>(pc));
+  vh.resize(static_cast<size_t>(pc));
+  const int half = (geometry_.cols + 1) / 2;
+  thread_local std::vector<float> fill_even, fill_odd, ok_even, ok_odd;
+  fill_even.resize(half);
+  fill_odd.resize(half);
+  ok_even.resize(half);
+  ok_odd.resize(half);
+  // Raw restrict pointers: the loops below then vectorise (thread_local vectors otherwise
+  // force a reload of their data pointers at every iteration).
+  float* __restrict__ pvs = vs.data();
+  float* __restrict__ pvh = vh.data();
+  float* __restrict__ fe = fill_even.data();
+  float* __restrict__ fo = fill_odd.data();
+  float* __restrict__ ke = ok_even.data();
+  float* __restrict__ ko = ok_odd.data();
+  const float* ps = s.data();
+  const float* psh = sh.data();
+  const int cols = geometry_.cols;
   for (int r = 0; r < geometry_.rows; ++r) {
     const int pr0 = (r + 1) / 2;  // padded coarse row of the lower neighbour
     const float b = (r % 2 == 0) ? 0.75f : 0.25f;
-    const float* s0 = &s[pr0 * pc];
-    const float* h0 = &sh[pr0 * pc];
+    const float* s0 = ps + pr0 * pc;
+    const float* h0 = psh + pr0 * pc;
     for (int j = 0; j < pc; ++j) {
-      vs[j] = (1 - b) * s0[j] + b * s0[j + pc];
-      vh[j] = (1 - b) * h0[j] + b * h0[j + pc];
+      pvs[j] = (1 - b) * s0[j] + b * s0[j + pc];
+      pvh[j] = (1 - b) * h0[j] + b * h0[j + pc];
     }
-    float* hrow = &height_[r * geometry_.cols];
-    const std::uint8_t* vrow = &valid_[r * geometry_.cols];
-    std::uint8_t* srow = &support_[r * geometry_.cols];
-    for (int c = 0; c < geometry_.cols; ++c) {
-      const int j = (c + 1) / 2;
-      const float a = (c % 2 == 0) ? 0.75f : 0.25f;
-      const float wsum = (1 - a) * vs[j] + a * vs[j + 1];
-      const float hsum = (1 - a) * vh[j] + a * vh[j + 1];
+    // Fine column 2j lies 3/4 of the way from padded coarse column j to j + 1; column 2j + 1
+    // 1/4 of the way from j + 1 to j + 2. Unit-stride loops, so they vectorise.
+    for (int j = 0; j < half; ++j) {
+      const float we = 0.25f * pvs[j] + 0.75f * pvs[j + 1];
+      const float wo = 0.75f * pvs[j + 1] + 0.25f * pvs[j + 2];
+      fe[j] = (0.25f * pvh[j] + 0.75f * pvh[j + 1]) / std::max(we, 0.5f);
+      fo[j] = (0.75f * pvh[j + 1] + 0.25f * pvh[j + 2]) / std::max(wo, 0.5f);
       // Require most of the interpolation weight: no extrapolation far from data.
-      const bool fill = !vrow[c] && wsum >= 0.5f;
-      hrow[c] = fill ? hsum / std::max(wsum, 0.5f) : hrow[c];
+      ke[j] = we >= 0.5f ? 1.0f : 0.0f;
+      ko[j] = wo >= 0.5f ? 1.0f : 0.0f;
+    }
+    float* __restrict__ hrow = height_.data() + r * cols;
+    const std::uint8_t* __restrict__ vrow = valid_.data() + r * cols;
+    std::uint8_t* __restrict__ srow = support_.data() + r * cols;
+    for (int j = 0; j < cols / 2; ++j) {
+      const int c = 2 * j;
+      const bool fill0 = !vrow[c] && ke[j] != 0.0f;
+      const bool fill1 = !vrow[c + 1] && ko[j] != 0.0f;
+      hrow[c] = fill0 ? fe[j] : hrow[c];
+      hrow[c + 1] = fill1 ? fo[j] : hrow[c + 1];
+      srow[c] = static_cast<std::uint8_t>(vrow[c] | (fill0 ? 1u : 0u));
+      srow[c + 1] = static_cast<std::uint8_t>(vrow[c + 1] | (fill1 ? 1u : 0u));
+    }
+    if (cols % 2 != 0) {
+      const int c = cols - 1;
+      const bool fill = !vrow[c] && ke[c / 2] != 0.0f;
+      hrow[c] = fill ? fe[c / 2] : hrow[c];
       srow[c] = static_cast<std::uint8_t>(vrow[c] | (fill ? 1u : 0u));
     }
   }

@@ -37,5 +37,9 @@ std::vector<SelectedCell> selectHighGradientCells(const HeightGrid& grid,
                                                   const GradientField& gradients,
                                                   const SelectionParams& params,
                                                   bool include_ground);
+/// In-place form of selectHighGradientCells(), reusing `out`'s memory.
+void selectHighGradientCells(const HeightGrid& grid, const GradientField& gradients,
+                             const SelectionParams& params, bool include_ground,
+                             std::vector<SelectedCell>& out);
 
 }  // namespace dlo

@@ -18,16 +18,16 @@ enum class Dof {
 
 /// Solver parameters (INI section [solver]).
 struct SolverParams {
-  int dof = 3;                        ///< 3 or 6
-  int max_iterations = 30;            ///< per pyramid level
-  double huber_delta = 0.10;          ///< robust kernel width on the height error, metres
-  double max_residual = 2.0;          ///< residuals beyond this (m) are outliers, weight 0
-  double min_step_translation = 1e-4; ///< convergence: translation update below this (m)
-  double min_step_rotation = 1e-5;    ///< convergence: rotation update below this (rad)
-  int min_cells = 30;                 ///< fewer usable cells than this: degenerate
+  int dof = 3;                          ///< 3 or 6
+  int max_iterations = 30;              ///< per pyramid level
+  double huber_delta = 0.10;            ///< robust kernel width on the height error, metres
+  double max_residual = 2.0;            ///< residuals beyond this (m) are outliers, weight 0
+  double min_step_translation = 1e-4;   ///< convergence: translation update below this (m)
+  double min_step_rotation = 1e-5;      ///< convergence: rotation update below this (rad)
+  int min_cells = 30;                   ///< fewer usable cells than this: degenerate
   double degeneracy_eigen_ratio = 0.1;  ///< eig_min/eig_max of the scaled Hessian below: degenerate
-  double rotation_scale = 10.0;       ///< metres; scales rotations against translations
-                                      ///< when judging conditioning
+  double rotation_scale = 10.0;         ///< metres; scales rotations against translations
+                                        ///< when judging conditioning
 };
 
 /// Outcome of one registration.
@@ -38,15 +38,15 @@ struct AlignmentResult {
   /// Covariance of the pose, order (x, y, z, wx, wy, wz) with a left perturbation
   /// pose = exp(xi) * estimate; unestimated directions carry the initial guess variance 1e6.
   Matrix6d covariance = Matrix6d::Identity();
-  int iterations = 0;            ///< Gauss-Newton iterations over all levels
-  int cells = 0;                 ///< cells with a valid residual at the last iteration
-  double rms_height_error = 0.0; ///< RMS of the height error at the end, metres
-  bool converged = false;        ///< the finest level met the step criteria
-  bool degenerate = false;       ///< the Hessian was ill-conditioned or too few cells
+  int iterations = 0;             ///< Gauss-Newton iterations over all levels
+  int cells = 0;                  ///< cells with a valid residual at the last iteration
+  double rms_height_error = 0.0;  ///< RMS of the height error at the end, metres
+  bool converged = false;         ///< the finest level met the step criteria
+  bool degenerate = false;        ///< the Hessian was ill-conditioned or too few cells
   /// Smallest over largest eigenvalue of the Hessian (rotations scaled by rotation_scale):
   /// 1 is isotropic information, 0 an unobservable direction.
   double information_ratio = 0.0;
-  StageTimes times;              ///< solve_ms only (frame build times are the frames')
+  StageTimes times;  ///< solve_ms only (frame build times are the frames')
 };
 
 /// Registers a current HeightFrame against a reference HeightFrame, coarse to fine.

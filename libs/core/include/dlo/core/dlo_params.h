@@ -12,9 +12,9 @@ namespace dlo {
 
 /// Every parameter of a DLO registration, grouped by INI section.
 struct DloParams {
-  HeightGridParams grid;       ///< [grid]
-  SelectionParams selection;   ///< [selection]
-  SolverParams solver;         ///< [solver]
+  HeightGridParams grid;      ///< [grid]
+  SelectionParams selection;  ///< [selection]
+  SolverParams solver;        ///< [solver]
 
   /// Empty when all values are acceptable, otherwise one sentence naming the key
   /// (section.key) and the accepted range.

@@ -36,5 +36,7 @@ struct GradientField {
 
 /// Central differences on supported cells, masked next to empty cells.
 GradientField computeGradients(const HeightGrid& grid);
+/// In-place form of computeGradients(), reusing `out`'s memory.
+void computeGradients(const HeightGrid& grid, GradientField& out);
 
 }  // namespace dlo

@@ -32,6 +32,11 @@ class HeightFrame {
   static HeightFrame fromPoints(const PointCloud& points, const HeightGridParams& grid,
                                 const SelectionParams& selection, bool include_ground);
 
+  /// In-place form of fromPoints(): rebuilds this frame from new points, reusing its memory.
+  /// Streaming code keeps a few frames and rebuilds them instead of allocating ~8 MB per scan.
+  void build(const PointCloud& points, const HeightGridParams& grid,
+             const SelectionParams& selection, bool include_ground);
+
   /// Builds the pyramid from an existing finest-level grid.
   static HeightFrame fromGrid(const HeightGrid& finest, int levels,
                               const SelectionParams& selection, bool include_ground);
@@ -42,8 +47,8 @@ class HeightFrame {
   const StageTimes& buildTimes() const { return times_; }
 
  private:
-  void buildLevels(HeightGrid finest, int levels, const SelectionParams& selection,
-                   bool include_ground);
+  /// Levels 1.. from level 0, hole filling, gradients and selection on every level.
+  void buildLevels(const SelectionParams& selection, bool include_ground);
 
   std::vector<FrameLevel> levels_;
   StageTimes times_;

@@ -40,8 +40,14 @@ class HeightGrid {
   static HeightGrid fromCells(const GridGeometry& geometry, const std::vector<float>& mean_heights,
                               const std::vector<std::uint32_t>& counts, int min_points);
 
+  /// In-place form of fromPoints(): reuses this grid's memory, for streaming.
+  void rasterise(const PointCloud& points, const GridGeometry& geometry, int min_points,
+                 double min_z, double max_z);
+
   /// The next coarser level (cells twice as large) from pooled sums and counts.
   HeightGrid coarser() const;
+  /// In-place form of coarser(): this grid becomes finer.coarser(), reusing its memory.
+  void poolFrom(const HeightGrid& finer);
 
   /// Fills cells without measurements from `coarser` (this grid's coarser() level, itself
   /// already filled; anything else throws std::invalid_argument),

@@ -17,7 +17,8 @@ namespace dlo {
 /// xi = (tx, ty, tz, wx, wy, wz), dq/dxi = [I | -[q]x], hence
 ///   de/dxi = [gx, gy, -1] [I | -[q]x]
 ///          = [gx, gy, -1, -gy qz - qy, gx qz + qx, -gx qy + gy qx],
-/// with (gx, gy) the reference gradient at q (zero for ground-lattice cells). The 3-DoF Jacobian keeps (tx, ty, wz):
+/// with (gx, gy) the reference gradient at q (zero for ground-lattice cells). The 3-DoF Jacobian
+/// keeps (tx, ty, wz):
 ///   [gx, gy, -gx qy + gy qx].
 /// \tparam N 3 or 6 parameters.
 /// \return false if q falls where the reference has no valid height or gradient.

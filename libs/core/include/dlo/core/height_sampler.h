@@ -43,6 +43,13 @@ class HeightSampler {
     return true;
   }
 
+  /// Recomputes the gradients of `grid` in place, reusing this sampler's memory.
+  void rebuild(const HeightGrid& grid) {
+    geometry_ = grid.geometry();
+    inv_resolution_ = 1.0 / geometry_.resolution;
+    computeGradients(grid, field_);
+  }
+
   const GridGeometry& geometry() const { return geometry_; }
   const GradientField& gradients() const { return field_; }
 

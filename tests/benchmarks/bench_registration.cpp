@@ -1,0 +1,158 @@
+// Google Benchmark: DLO registration of the two halves of the real HDL-64 scan, per stage and
+// whole. Run: build/tests/benchmarks/dlo_bench_registration
+//   --benchmark_repetitions=10 --benchmark_report_aggregates_only=true
+// The current half is the odd points moved by x = 1.0 m, y = -0.5 m, yaw = 5 deg; the
+// registration starts from the identity, as with no motion prior.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+
+#include "dlo/core/direct_aligner.h"
+#include "dlo/core/dlo_params.h"
+#include "dlo/core/height_frame.h"
+#include "dlo/mrpt/scan_file.h"
+
+namespace {
+
+struct Halves {
+  dlo::PointCloud reference;
+  dlo::PointCloud current;
+};
+
+const Halves& halves() {
+  static const Halves h = [] {
+    const dlo::PointCloud scan =
+        dlo::loadKittiBin(std::string(DLO_SHARED_DATA_DIR) + "/kitti_00_000000.bin.gz");
+    const Eigen::Isometry3f inv =
+        dlo::poseFromXYZYPR(1.0, -0.5, 0.0, 5.0 * M_PI / 180.0, 0.0, 0.0).inverse().cast<float>();
+    Halves out;
+    for (size_t i = 0; i < scan.size(); ++i) {
+      if (i % 2 == 0) {
+        out.reference.push_back(scan[i]);
+      } else {
+        out.current.push_back(inv * scan[i]);
+      }
+    }
+    return out;
+  }();
+  return h;
+}
+
+dlo::DloParams paramsFor(int dof) {
+  dlo::DloParams p;
+  p.solver.dof = dof;
+  return p;
+}
+
+void BM_RasteriseFinestGrid(benchmark::State& state) {
+  const dlo::DloParams p;
+  const dlo::GridGeometry geo =
+      dlo::GridGeometry::centred(p.grid.cols, p.grid.rows, p.grid.resolution);
+  dlo::HeightGrid g;
+  for (auto _ : state) {
+    g.rasterise(halves().current, geo, p.grid.min_points, p.grid.min_z, p.grid.max_z);
+    benchmark::DoNotOptimize(g.validCellCount());
+  }
+  state.counters["points"] = static_cast<double>(halves().current.size());
+}
+
+void BM_PyramidAndHoleFilling(benchmark::State& state) {
+  const dlo::DloParams p;
+  const dlo::GridGeometry geo =
+      dlo::GridGeometry::centred(p.grid.cols, p.grid.rows, p.grid.resolution);
+  const dlo::HeightGrid finest = dlo::HeightGrid::fromPoints(
+      halves().current, geo, p.grid.min_points, p.grid.min_z, p.grid.max_z);
+  std::vector<dlo::HeightGrid> levels(static_cast<size_t>(p.grid.levels));
+  for (auto _ : state) {
+    levels[0] = finest;
+    for (int k = 1; k < p.grid.levels; ++k) levels[k].poolFrom(levels[k - 1]);
+    for (int k = p.grid.levels - 2; k >= 0; --k) levels[k].fillHolesFrom(levels[k + 1]);
+    benchmark::DoNotOptimize(levels.front().heights().data());
+  }
+}
+
+void BM_Gradients(benchmark::State& state) {
+  const dlo::DloParams p;
+  const dlo::HeightFrame f =
+      dlo::HeightFrame::fromPoints(halves().current, p.grid, p.selection, false);
+  dlo::GradientField g;
+  for (auto _ : state) {
+    for (const dlo::FrameLevel& level : f.levels()) {
+      dlo::computeGradients(level.grid, g);
+      benchmark::DoNotOptimize(g.cells.data());
+    }
+  }
+}
+
+void BM_Selection(benchmark::State& state) {
+  const dlo::DloParams p;
+  const dlo::HeightFrame f =
+      dlo::HeightFrame::fromPoints(halves().current, p.grid, p.selection, false);
+  std::vector<dlo::SelectedCell> cells;
+  for (auto _ : state) {
+    for (const dlo::FrameLevel& level : f.levels()) {
+      dlo::selectHighGradientCells(level.grid, level.sampler.gradients(), p.selection, false,
+                                   cells);
+      benchmark::DoNotOptimize(cells.data());
+    }
+  }
+  state.counters["cells_finest"] = static_cast<double>(f.levels().front().cells.size());
+}
+
+/// A whole frame from raw points: grid, pyramid, gradients, selection.
+void BM_BuildFrame(benchmark::State& state) {
+  const dlo::DloParams p = paramsFor(static_cast<int>(state.range(0)));
+  dlo::StageTimes sum;
+  dlo::HeightFrame f;  // rebuilt in place, as the odometry does for every scan
+  for (auto _ : state) {
+    f.build(halves().current, p.grid, p.selection, p.includeGround());
+    sum += f.buildTimes();
+    benchmark::DoNotOptimize(f.levels().data());
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["grid_ms"] = sum.grid_ms / n;
+  state.counters["gradients_ms"] = sum.gradients_ms / n;
+  state.counters["selection_ms"] = sum.selection_ms / n;
+}
+
+/// Gauss-Newton alone, coarse to fine, on prebuilt frames.
+void BM_GaussNewton(benchmark::State& state) {
+  const dlo::DloParams p = paramsFor(static_cast<int>(state.range(0)));
+  const dlo::HeightFrame ref =
+      dlo::HeightFrame::fromPoints(halves().reference, p.grid, p.selection, p.includeGround());
+  const dlo::HeightFrame cur =
+      dlo::HeightFrame::fromPoints(halves().current, p.grid, p.selection, p.includeGround());
+  const dlo::DirectAligner aligner(p.solver);
+  dlo::AlignmentResult r;
+  for (auto _ : state) {
+    r = aligner.align(ref, cur, Eigen::Isometry3d::Identity());
+    benchmark::DoNotOptimize(r.pose.data());
+  }
+  state.counters["iterations"] = r.iterations;
+  state.counters["cells"] = r.cells;
+}
+
+/// The whole pair: both frames from raw points, then registration.
+void BM_WholePair(benchmark::State& state) {
+  const dlo::DloParams p = paramsFor(static_cast<int>(state.range(0)));
+  const dlo::DirectAligner aligner(p.solver);
+  dlo::HeightFrame ref, cur;  // rebuilt in place, as the odometry does for every scan
+  for (auto _ : state) {
+    ref.build(halves().reference, p.grid, p.selection, p.includeGround());
+    cur.build(halves().current, p.grid, p.selection, p.includeGround());
+    const dlo::AlignmentResult r = aligner.align(ref, cur, Eigen::Isometry3d::Identity());
+    benchmark::DoNotOptimize(r.pose.data());
+  }
+}
+
+}  // namespace
+
+BENCHMARK(BM_RasteriseFinestGrid)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PyramidAndHoleFilling)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Gradients)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Selection)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BuildFrame)->Arg(3)->Arg(6)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_GaussNewton)->Arg(3)->Arg(6)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WholePair)->Arg(3)->Arg(6)->Unit(benchmark::kMillisecond);
+
+BENCHMARK_MAIN();
