@@ -41,6 +41,7 @@ Output:
    "covariance": [36 numbers, row-major, order x y z yaw pitch roll; metres and RADIANS,
                   as MRPT's CPose3DPDFGaussian],
    "iterations", "cells", "rms_height_error" (metres), "degenerate", "converged",
+   "information_ratio" (smallest / largest Hessian eigenvalue; near 0: degenerate scene),
    "time_ms": {"grid", "gradients", "selection", "solve", "total"}}
   Times cover building both height frames and the solve, not reading the files.
 

@@ -229,3 +229,14 @@ TEST(DloConfig, SaveThenLoadGivesTheSameParams) {
 
 }  // namespace
 }  // namespace dlo
+
+namespace dlo {
+namespace {
+
+TEST(DloConfig, TheShippedConfigFileHoldsExactlyTheDefaults) {
+  const DloParams loaded = loadDloParamsFile(std::string(DLO_SOURCE_DIR) + "/config/dlo.ini");
+  EXPECT_EQ(dloParamsToIni(loaded), dloParamsToIni(DloParams()));
+}
+
+}  // namespace
+}  // namespace dlo

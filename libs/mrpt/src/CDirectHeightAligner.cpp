@@ -120,6 +120,7 @@ mrpt::poses::CPose3DPDFGaussian CDirectHeightAligner::alignFrames(
   info.rms_height_error = r.rms_height_error;
   info.degenerate = r.degenerate;
   info.converged = r.converged;
+  info.information_ratio = r.information_ratio;
   info.grid_ms = times.grid_ms;
   info.gradients_ms = times.gradients_ms;
   info.selection_ms = times.selection_ms;

@@ -33,6 +33,7 @@ std::string registrationReportJson(const mrpt::poses::CPose3DPDFGaussian& pdf,
       << ", \"rms_height_error\": " << number(info.rms_height_error)
       << ", \"degenerate\": " << (info.degenerate ? "true" : "false")
       << ", \"converged\": " << (info.converged ? "true" : "false")
+      << ", \"information_ratio\": " << number(info.information_ratio)
       << ", \"time_ms\": {\"grid\": " << number(info.grid_ms)
       << ", \"gradients\": " << number(info.gradients_ms)
       << ", \"selection\": " << number(info.selection_ms)

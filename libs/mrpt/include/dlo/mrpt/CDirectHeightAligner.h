@@ -55,10 +55,13 @@ class CDirectHeightAligner : public CMetricMapsAlignmentAlgorithm, public mrpt::
     double rms_height_error = 0.0;  ///< RMS height error at the end, metres
     bool degenerate = false;        ///< ill-conditioned Hessian or too few cells
     bool converged = false;         ///< the finest level met the step criteria
-    double grid_ms = 0.0;           ///< rasterising both maps (pyramids, hole filling)
-    double gradients_ms = 0.0;      ///< gradients and samplers of both maps
-    double selection_ms = 0.0;      ///< cell selection of both maps
-    double solve_ms = 0.0;          ///< Gauss-Newton, all levels
+    /// Smallest over largest Hessian eigenvalue (rotations scaled to metres); near 0 means an
+    /// unobservable direction (open field, corridor).
+    double information_ratio = 0.0;
+    double grid_ms = 0.0;       ///< rasterising both maps (pyramids, hole filling)
+    double gradients_ms = 0.0;  ///< gradients and samplers of both maps
+    double selection_ms = 0.0;  ///< cell selection of both maps
+    double solve_ms = 0.0;      ///< Gauss-Newton, all levels
     // executionTime (inherited): whole call, seconds.
   };
 
