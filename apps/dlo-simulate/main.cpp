@@ -14,7 +14,7 @@
 #include "dlo/sim/route.h"
 #include "dlo/sim/sweep_simulator.h"
 #include "dlo/sim/vehicle_trajectory.h"
-#include "velodyne_packets.h"
+#include "velodyne_observation.h"
 
 namespace {
 
@@ -25,10 +25,11 @@ constexpr const char* kUsage =
 Simulates a LiDAR on a car driving laps around a 60 x 40 m block of a procedural town on
 rolling hills (roads with crown and kerbs, buildings, trees, poles, parked and moving cars),
 and writes:
-  DIR/sequence.rawlog   one mrpt::obs::CObservationVelodyneScan per sweep (label "LIDAR"),
-                        genuine Velodyne packets with motion distortion, range noise and
-                        dropouts; decode with generatePointCloud() (points in the sensor frame,
-                        sensorPose = mounting on the vehicle)
+  DIR/sequence.rawlog   one mrpt::obs::CObservationVelodyneScan per sweep (label "LIDAR"):
+                        point_cloud holds the points in the sensor frame with per-point
+                        timestamps (motion distortion, range noise and dropouts included),
+                        scan_packets the same returns as Velodyne packets; sensorPose is the
+                        mounting pose on the vehicle (see datasets/README.md)
   DIR/groundtruth.tum   "timestamp x y z qx qy qz qw" of the vehicle frame in the world at
                         each sweep's reference time (its first firing)
 

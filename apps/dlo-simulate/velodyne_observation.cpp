@@ -1,7 +1,8 @@
-#include "velodyne_packets.h"
+#include "velodyne_observation.h"
 
 #include <mrpt/math/CMatrixFixed.h>
 #include <mrpt/poses/CPose3D.h>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -76,6 +77,24 @@ mrpt::obs::CObservationVelodyneScan::Ptr toVelodyneScan(const sim::Sweep& sweep,
     c.verticalCorrection = m.elevationDeg[l];
     c.sinVertCorrection = std::sin(m.elevationDeg[l] * M_PI / 180.0);
     c.cosVertCorrection = std::cos(m.elevationDeg[l] * M_PI / 180.0);
+  }
+
+  // The decoded form, with exact per-point times.
+  auto& pc = obs->point_cloud;
+  pc.reserve(static_cast<size_t>(
+      std::count_if(sweep.range.begin(), sweep.range.end(), [](float r) { return r > 0.0f; })));
+  for (int f = 0; f < sweep.firings; ++f) {
+    for (int l = 0; l < sweep.lasers; ++l) {
+      const size_t idx = sweep.index(f, l);
+      if (sweep.range[idx] <= 0.0f) continue;
+      const Eigen::Vector3d p = simulator.sensorPoint(sweep, f, l);
+      pc.x.push_back(static_cast<float>(p.x()));
+      pc.y.push_back(static_cast<float>(p.y()));
+      pc.z.push_back(static_cast<float>(p.z()));
+      pc.intensity.push_back(sweep.intensity[idx]);
+      pc.laser_id.push_back(static_cast<int16_t>(l));
+      pc.timestamp.push_back(addNanoseconds(epoch, simulator.pointTimeNs(sweep, f, l)));
+    }
   }
 
   // How firings map onto the 12 blocks of a packet, 32 returns per block.

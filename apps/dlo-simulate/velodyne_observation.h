@@ -11,17 +11,21 @@
 namespace dlo {
 
 /**
- * One sweep as an mrpt::obs::CObservationVelodyneScan: the returns are stored in Velodyne
- * data packets (12 blocks, 2 mm range units, 0.01 deg azimuth units, strongest return), with
- * the sensor's elevation table in `calibration`, so that MRPT's own generatePointCloud()
- * decodes them into points in the SENSOR frame, and `sensorPose` carries the mounting pose on
- * the vehicle.
+ * One sweep as an mrpt::obs::CObservationVelodyneScan, in two forms:
  *
- * Times: `timestamp` is the sweep's reference time (its first firing) = `epoch` + the time
- * since the sequence start. Each packet's GPS field holds the microseconds since the top of
- * the hour of its first firing, so generatePointCloud(generatePerPointTimestamp = true)
- * returns, per point, the time of its packet's first firing; the exact firing time of a point
- * adds the Velodyne block/laser offsets (see datasets/README.md).
+ * - `point_cloud`: the measured points in the SENSOR frame, firing-major and laser-minor,
+ *   with `intensity`, `laser_id` (ring) and `timestamp`: the absolute time at which that laser
+ *   fired (100 ns resolution). This is what MRPT-based readers use when it is present (the DLO
+ *   adapter, MOLA), and it carries the exact per-point times needed for deskewing.
+ * - `scan_packets`: the same returns as genuine Velodyne data packets (12 blocks of 32
+ *   returns, 2 mm range units, 0.01 deg azimuth units, strongest return, GPS field = us since
+ *   the top of the hour of the packet's first firing) plus the elevation table in
+ *   `calibration`, as a real capture stores them. Caveat: MRPT 2.5's generatePointCloud()
+ *   decodes only the first 16 returns of every block, so calling it replaces the complete
+ *   `point_cloud` with part of it; do not re-decode.
+ *
+ * `timestamp` is the sweep's reference time (its first firing) = `epoch` + the time since
+ * the sequence start; `sensorPose` is the mounting pose on the vehicle.
  */
 mrpt::obs::CObservationVelodyneScan::Ptr toVelodyneScan(const sim::Sweep& sweep,
                                                         const sim::SweepSimulator& simulator,

@@ -18,8 +18,8 @@ struct RouteState {
 /// Limits of the speed profile.
 struct SpeedLimits {
   double cruise = 10.0;            ///< Top speed on straights [m/s].
-  double lateralAccel = 3.0;       ///< Caps the speed in turns: v^2 * curvature [m/s^2].
-  double longitudinalAccel = 1.5;  ///< Braking and acceleration [m/s^2].
+  double lateralAccel = 3.5;       ///< Caps the speed in turns: v^2 * curvature [m/s^2].
+  double longitudinalAccel = 2.0;  ///< Braking and acceleration [m/s^2].
 };
 
 /**
