@@ -69,7 +69,7 @@ VelodynePcapReader::VelodynePcapReader(const std::string& path, VelodyneModel mo
 
 VelodynePcapReader::~VelodynePcapReader() = default;
 
-mrpt::obs::CObservationVelodyneScan::Ptr VelodynePcapReader::next() {
+mrpt::obs::CObservationVelodyneScan::Ptr VelodynePcapReader::readRotation() {
   while (!finished_) {
     mrpt::obs::CObservationVelodyneScan::Ptr scan;
     mrpt::obs::CObservationGPS::Ptr gps;
@@ -78,9 +78,46 @@ mrpt::obs::CObservationVelodyneScan::Ptr VelodynePcapReader::next() {
       break;
     }
     if (gps) ++gps_packets_;
-    if (scan) return scan;
+    if (scan && !scan->scan_packets.empty()) return scan;
   }
   return nullptr;
+}
+
+void VelodynePcapReader::restamp(mrpt::obs::CObservationVelodyneScan& scan) {
+  const double clock = scan.scan_packets.front().gps_timestamp() * 1e-6;  // since top of hour
+  if (scan.has_satellite_timestamp) {
+    hour_start_ = mrpt::Clock::toDouble(scan.timestamp) - clock;
+    fix_clock_ = clock;
+    return;
+  }
+  double t = hour_start_.value_or(0.0) + clock;
+  // Rotations read ahead of the first fix may lie in the hour before it.
+  if (hour_start_ && clock > fix_clock_ + 1800.0) t -= 3600.0;
+  scan.timestamp = mrpt::Clock::fromDouble(t);
+}
+
+mrpt::obs::CObservationVelodyneScan::Ptr VelodynePcapReader::next() {
+  if (!primed_) {
+    primed_ = true;
+    while (ahead_.size() < kGpsLookahead) {
+      auto scan = readRotation();
+      if (!scan) break;
+      ahead_.push_back(scan);
+      if (scan->has_satellite_timestamp) {
+        restamp(*scan);  // sets the hour for the rotations before it
+        break;
+      }
+    }
+  }
+  mrpt::obs::CObservationVelodyneScan::Ptr scan;
+  if (!ahead_.empty()) {
+    scan = ahead_.front();
+    ahead_.pop_front();
+  } else {
+    scan = readRotation();
+  }
+  if (scan) restamp(*scan);
+  return scan;
 }
 
 VelodynePcapScanSource::VelodynePcapScanSource(const std::string& path, VelodyneModel model,

@@ -5,7 +5,9 @@
 #pragma once
 
 #include <mrpt/obs/CObservationVelodyneScan.h>
+#include <deque>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "dlo/mrpt/scan_source.h"
@@ -26,6 +28,13 @@ VelodyneModel parseVelodyneModel(const std::string& name);
 /// as possible (MRPT's default replays at sensor speed and loops forever). As with MRPT's
 /// driver, the packets after the last 360-degree wrap (a partial rotation) are not returned; the
 /// first rotation may be partial when the capture starts mid-turn.
+///
+/// Timestamps: MRPT stamps a rotation with GPS time once the capture has shown a GPS fix, and
+/// before that with the computer's clock AT READING TIME, which for a file is meaningless and
+/// makes the stream jump by years. So every rotation is re-stamped from the sensor's own clock
+/// (microseconds since the top of the hour, in each data packet) plus the hour taken from the
+/// first GPS-stamped rotation (looked for up to kGpsLookahead rotations ahead). Without a GPS fix
+/// the timestamps are seconds since the top of the hour: consistent, but not absolute.
 class VelodynePcapReader {
  public:
   /// \throws InputError naming the file if it is missing or not a pcap capture.
@@ -39,8 +48,18 @@ class VelodynePcapReader {
   /// GPS (position) packets seen so far; they are not part of the scans.
   size_t gpsPackets() const { return gps_packets_; }
 
+  /// Rotations read ahead to find the first GPS-stamped one (2 s at 10 Hz).
+  static constexpr size_t kGpsLookahead = 20;
+
  private:
+  mrpt::obs::CObservationVelodyneScan::Ptr readRotation();
+  void restamp(mrpt::obs::CObservationVelodyneScan& scan);
+
   std::unique_ptr<mrpt::hwdrivers::CVelodyneScanner> scanner_;
+  std::deque<mrpt::obs::CObservationVelodyneScan::Ptr> ahead_;
+  bool primed_ = false;
+  std::optional<double> hour_start_;  ///< GPS time of the top of the current hour, seconds.
+  double fix_clock_ = 0;              ///< Sensor clock of the rotation that set hour_start_.
   size_t gps_packets_ = 0;
   bool finished_ = false;
 };

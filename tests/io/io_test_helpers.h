@@ -1,0 +1,75 @@
+// Helpers of the input tests: temporary folders and small rawlogs built from the real KITTI scan.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <mrpt/io/CFileOutputStream.h>
+#include <mrpt/maps/CPointsMapXYZI.h>
+#include <mrpt/obs/CObservationPointCloud.h>
+#include <mrpt/serialization/CArchive.h>
+#include <filesystem>
+#include <string>
+
+#include "../test_data.h"
+#include "dlo/mrpt/kitti_bin.h"
+
+namespace dlo::test {
+
+/// A temporary folder for one test, removed with it.
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = std::filesystem::path(testing::TempDir()) /
+           ("dlo_io_" + std::string(info->test_suite_name()) + "_" + info->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  ~TempDir() { std::filesystem::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+ private:
+  std::filesystem::path dir_;
+};
+
+/// Every `step`-th point of the real HDL-64 scan (with reflectance): small enough for quick
+/// rawlog round trips, still real structure.
+inline mrpt::maps::CPointsMapXYZI::Ptr kittiSubsample(size_t step) {
+  mrpt::maps::CPointsMapXYZI full;
+  loadKittiBinXYZI(sharedData("kitti_00_000000.bin.gz"), full);
+  auto out = mrpt::maps::CPointsMapXYZI::Create();
+  for (size_t i = 0; i < full.size(); i += step) {
+    float x, y, z;
+    full.getPointFast(i, x, y, z);
+    out->insertPointFast(x, y, z);
+    out->setPointIntensity(out->size() - 1, full.getPointIntensity(i));
+  }
+  out->mark_as_modified();
+  return out;
+}
+
+/// A CObservationPointCloud holding `map` (shared), with a label and a timestamp in seconds.
+inline mrpt::obs::CObservationPointCloud::Ptr pointCloudObservation(
+    const mrpt::maps::CPointsMap::Ptr& map, const std::string& label, double t) {
+  auto obs = mrpt::obs::CObservationPointCloud::Create();
+  obs->pointcloud = map;
+  obs->sensorLabel = label;
+  obs->timestamp = mrpt::Clock::fromDouble(t);
+  return obs;
+}
+
+/// Writes serializable objects one after the other: either rawlog layout, as the test decides.
+class RawObjectWriter {
+ public:
+  explicit RawObjectWriter(const std::string& path) : out_(path), arch_(out_) {}
+  template <class T>
+  void write(const T& object) {
+    arch_.WriteObject(&object);
+  }
+
+ private:
+  mrpt::io::CFileOutputStream out_;
+  mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileOutputStream> arch_;
+};
+
+}  // namespace dlo::test
