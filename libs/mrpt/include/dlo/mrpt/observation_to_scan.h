@@ -33,10 +33,11 @@ ObservationConversion observationToTimedScan(mrpt::obs::CObservation& obs,
                                              std::string& reason);
 
 /// HOOK for per-point times stored in a CObservationPointCloud. MRPT 2.5 point maps have no time
-/// channel (CPointsMapXYZIRT came later), so a writer that wants to carry times must agree on a
-/// convention with this function. None is agreed yet (the simulator's datasets/README.md does not
-/// define one), so it returns an empty vector; when one is, decode it here and every reader
-/// (RawlogScanSource, loadScanFile) picks it up.
+/// channel (CPointsMapXYZIRT came later), so a writer that wants to carry times there must agree
+/// on a convention with this function. None exists: the simulator (datasets/README.md) writes
+/// CObservationVelodyneScan with absolute `point_cloud.timestamp` instead, which
+/// observationToTimedScan() reads directly without re-decoding. So this returns an empty vector;
+/// if a convention is ever agreed, decode it here and every reader picks it up.
 /// \return one time per point of `obs.pointcloud` in seconds relative to obs.timestamp, or empty.
 std::vector<float> pointCloudObservationTimes(const mrpt::obs::CObservationPointCloud& obs);
 
