@@ -8,6 +8,8 @@ PACKAGES=(
   libmrpt-dev libeigen3-dev libopencv-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-format
+  # exports: graph-slam checks keyframes.graph; EGL + Mesa render map_render.png headless
+  mrpt-apps libegl1 libegl-mesa0 libgl1-mesa-dri
 )
 
 missing=()
