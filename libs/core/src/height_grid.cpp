@@ -45,6 +45,36 @@ void HeightGrid::rasterise(const PointCloud& points, const GridGeometry& geometr
   g.finalise();
 }
 
+void HeightGrid::rasterise(const WeightedCloud& points, const Eigen::Isometry3d& pose,
+                           const GridGeometry& geometry, int min_points, double min_z,
+                           double max_z) {
+  geometry_ = geometry;
+  min_points_ = min_points;
+  const int n = geometry.cellCount();
+  count_.assign(n, 0u);
+  sum_z_.assign(n, 0.0f);
+  const Eigen::Isometry3f T = pose.cast<float>();
+  const float inv_res = static_cast<float>(1.0 / geometry.resolution);
+  const float x0 = static_cast<float>(geometry.x_min);
+  const float y0 = static_cast<float>(geometry.y_min);
+  const float cols = static_cast<float>(geometry.cols);
+  const float rows = static_cast<float>(geometry.rows);
+  const float zlo = static_cast<float>(min_z);
+  const float zhi = static_cast<float>(max_z);
+  for (const WeightedPoint& w : points) {
+    const Eigen::Vector3f p = T * w.p;
+    const float u = (p.x() - x0) * inv_res;
+    const float v = (p.y() - y0) * inv_res;
+    if (!(u >= 0.0f && u < cols && v >= 0.0f && v < rows && p.z() >= zlo && p.z() <= zhi)) {
+      continue;
+    }
+    const int idx = static_cast<int>(v) * geometry.cols + static_cast<int>(u);
+    count_[idx] += w.n;
+    sum_z_[idx] += static_cast<float>(w.n) * p.z();
+  }
+  finalise();
+}
+
 HeightGrid HeightGrid::fromCells(const GridGeometry& geometry,
                                  const std::vector<float>& mean_heights,
                                  const std::vector<std::uint32_t>& counts, int min_points) {

@@ -34,6 +34,23 @@ Eigen::Isometry3d expSE3(const Vector6d& xi) {
   return T;
 }
 
+Vector6d logSE3(const Eigen::Isometry3d& T) {
+  const Eigen::AngleAxisd aa(T.linear());
+  const double theta = aa.angle();
+  const Eigen::Vector3d w = theta * aa.axis();
+  const Eigen::Matrix3d W = skew(w);
+  Eigen::Matrix3d Vinv = Eigen::Matrix3d::Identity() - 0.5 * W;
+  if (theta > 1e-9) {
+    const double a = std::sin(theta) / theta;
+    const double b = (1.0 - std::cos(theta)) / (theta * theta);
+    Vinv += (1.0 / (theta * theta)) * (1.0 - a / (2.0 * b)) * W * W;
+  }
+  Vector6d xi;
+  xi.head<3>() = Vinv * T.translation();
+  xi.tail<3>() = w;
+  return xi;
+}
+
 Eigen::Isometry3d poseFromXYZYPR(double x, double y, double z, double yaw, double pitch,
                                  double roll) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

@@ -37,6 +37,10 @@ class HeightFrame {
   void build(const PointCloud& points, const HeightGridParams& grid,
              const SelectionParams& selection, bool include_ground);
 
+  /// Rebuilds this frame from weighted points seen from `pose` (see HeightGrid::rasterise).
+  void build(const WeightedCloud& points, const Eigen::Isometry3d& pose,
+             const HeightGridParams& grid, const SelectionParams& selection, bool include_ground);
+
   /// Builds the pyramid from an existing finest-level grid.
   static HeightFrame fromGrid(const HeightGrid& finest, int levels,
                               const SelectionParams& selection, bool include_ground);

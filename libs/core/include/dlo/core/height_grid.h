@@ -8,6 +8,7 @@
 
 #include "dlo/core/grid_geometry.h"
 #include "dlo/core/point_cloud.h"
+#include "dlo/core/weighted_cloud.h"
 
 namespace dlo {
 
@@ -43,6 +44,12 @@ class HeightGrid {
   /// In-place form of fromPoints(): reuses this grid's memory, for streaming.
   void rasterise(const PointCloud& points, const GridGeometry& geometry, int min_points,
                  double min_z, double max_z);
+
+  /// Rasterises weighted points (voxel centroids with counts) seen from `pose`: each point is
+  /// mapped by pose * p into the grid frame and counts n times. Used to rebuild keyframe grids
+  /// and to fuse several keyframes into a local map.
+  void rasterise(const WeightedCloud& points, const Eigen::Isometry3d& pose,
+                 const GridGeometry& geometry, int min_points, double min_z, double max_z);
 
   /// The next coarser level (cells twice as large) from pooled sums and counts.
   HeightGrid coarser() const;

@@ -12,6 +12,9 @@ using Matrix6d = Eigen::Matrix<double, 6, 6>;
 /// exp of a twist (tx, ty, tz, wx, wy, wz) into a rigid transform (rotation vector w).
 Eigen::Isometry3d expSE3(const Vector6d& xi);
 
+/// log of a rigid transform: the twist (tx, ty, tz, wx, wy, wz) with expSE3(logSE3(T)) == T.
+Vector6d logSE3(const Eigen::Isometry3d& T);
+
 /// Rigid transform from MRPT-style parameters: R = Rz(yaw) Ry(pitch) Rx(roll), radians.
 Eigen::Isometry3d poseFromXYZYPR(double x, double y, double z, double yaw, double pitch,
                                  double roll);

@@ -11,8 +11,12 @@
 #include <vector>
 
 #include "dlo/core/dlo_params.h"
+#include "dlo/mrpt/param_table.h"
 
 namespace dlo {
+
+/// The INI table of DloParams, for composing larger parameter sets (see liftField()).
+const std::vector<ParamField<DloParams>>& dloParamFields();
 
 /// Name of the INI section of parameter group `group` ("grid", "selection", "solver"):
 /// `group` itself when `prefix` is empty, else "prefix.group".

@@ -1,0 +1,37 @@
+/// \file weighted_cloud.h
+/// \brief Voxel-decimated clouds that keep enough statistics to rebuild exact mean heights.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <vector>
+
+#include "dlo/core/point_cloud.h"
+
+namespace dlo {
+
+/// The centroid of the points of one voxel and how many there were. Rasterising weighted points
+/// adds n to a cell's count and n * z to its height sum, so a decimated cloud gives the same
+/// mean heights and the same 3-point rule as the raw scan (up to voxel-to-cell aliasing).
+struct WeightedPoint {
+  Eigen::Vector3f p = Eigen::Vector3f::Zero();
+  std::uint32_t n = 0;
+};
+
+using WeightedCloud = std::vector<WeightedPoint>;
+
+/// Merges points into cubic voxels of side `voxel` metres (non-finite points are dropped).
+/// Deterministic: the output is sorted by voxel key.
+WeightedCloud voxelise(const PointCloud& points, double voxel);
+
+/// Re-voxelises a weighted cloud (weights add, centroids are weighted means), e.g. to keep a
+/// coarser long-term copy or to merge clouds expressed in one frame.
+WeightedCloud voxelise(const WeightedCloud& points, double voxel);
+
+/// Applies a rigid transform to every centroid.
+WeightedCloud transformed(const WeightedCloud& cloud, const Eigen::Isometry3d& pose);
+
+/// Total number of original points represented.
+std::uint64_t pointCount(const WeightedCloud& cloud);
+
+}  // namespace dlo

@@ -1,0 +1,78 @@
+#include "dlo/mrpt/param_table.h"
+
+#include <cerrno>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "dlo/mrpt/input_error.h"
+
+namespace dlo::param_text {
+
+std::string sectionName(const std::string& prefix, const std::string& section) {
+  return prefix.empty() ? section : prefix + "." + section;
+}
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return {};
+  const auto e = s.find_last_not_of(" \t\r\n");
+  return s.substr(b, e - b + 1);
+}
+
+double parse(const std::string& text, bool is_int, const std::string& name,
+             const std::string& where) {
+  const std::string v = trim(text);
+  const char* begin = v.c_str();
+  char* end = nullptr;
+  errno = 0;
+  if (is_int) {
+    const long long x = std::strtoll(begin, &end, 10);
+    if (v.empty() || *end != '\0' || errno == ERANGE || x < std::numeric_limits<int>::min() ||
+        x > std::numeric_limits<int>::max()) {
+      throw InputError("parameter " + name + " = '" + v + "' (" + where + ") is not an integer.");
+    }
+    return static_cast<double>(x);
+  }
+  const double x = std::strtod(begin, &end);
+  if (v.empty() || *end != '\0' || errno == ERANGE) {
+    throw InputError("parameter " + name + " = '" + v + "' (" + where + ") is not a number.");
+  }
+  return x;
+}
+
+std::string exact(double x, bool is_int) {
+  if (is_int) return std::to_string(static_cast<long long>(x));
+  // Shortest text that reads back exactly: 0.1 rather than 0.10000000000000001.
+  for (int precision = 6; precision <= 17; ++precision) {
+    std::ostringstream s;
+    s.precision(precision);
+    s << x;
+    if (std::strtod(s.str().c_str(), nullptr) == x) return s.str();
+  }
+  std::ostringstream s;
+  s.precision(17);
+  s << x;
+  return s.str();
+}
+
+void throwIfProblem(const std::string& problem) {
+  if (!problem.empty()) throw InputError(problem);
+}
+
+void fail(const std::string& problem) {
+  throw InputError(problem);
+}
+
+void requireReadableConfig(const std::string& path) {
+  if (!std::ifstream(path)) {
+    throw InputError("cannot open config file '" + path + "': no such file or not readable.");
+  }
+}
+
+void rethrowWithFile(const std::string& path, const std::exception& e) {
+  throw InputError("config file '" + path + "': " + e.what());
+}
+
+}  // namespace dlo::param_text

@@ -1,0 +1,27 @@
+/// \file keyframe_graph.h
+/// \brief The keyframe pose graph on MRPT's CNetworkOfPoses3DInf and its SPA optimiser.
+#pragma once
+
+#include <mrpt/graphs/CNetworkOfPoses.h>
+
+#include "dlo/slam/slam_map.h"
+
+namespace dlo {
+
+/// Builds the MRPT pose graph of a SlamMap (nodes = keyframe poses, edges = odometry and
+/// accepted loop edges, node 0 fixed).
+mrpt::graphs::CNetworkOfPoses3DInf toPoseGraph(const SlamMap& map);
+
+/// Optimises the keyframe poses of `map` with mrpt::graphslam::optimize_graph_spa_levmarq and
+/// writes them back. Frames follow their keyframes (their poses are stored relative to them).
+/// \return the final sum of squared errors.
+double optimisePoseGraph(SlamMap& map, int max_iterations = 100);
+
+/// Information matrix (MRPT order x, y, z, yaw, pitch, roll) of a registration covariance given
+/// in twist order around `pose`, with standard deviations floored at `min_sigma_xy` metres and
+/// `min_sigma_angle` radians: DLO's covariance from thousands of cells is optimistic, and an
+/// over-confident edge would pin the graph.
+Matrix6d edgeInformation(const Eigen::Isometry3d& pose, const Matrix6d& twist_covariance,
+                         double min_sigma_xy, double min_sigma_angle);
+
+}  // namespace dlo

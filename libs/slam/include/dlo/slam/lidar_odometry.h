@@ -1,0 +1,79 @@
+/// \file lidar_odometry.h
+/// \brief Scan-to-reference odometry: constant-velocity prediction, deskewing, registration
+/// against the previous scan, the last keyframe or a local height map, keyframe decisions.
+#pragma once
+
+#include <deque>
+#include <vector>
+
+#include "dlo/core/direct_aligner.h"
+#include "dlo/core/height_frame.h"
+#include "dlo/core/weighted_cloud.h"
+#include "dlo/slam/slam_params.h"
+
+namespace dlo {
+
+/// Time spent on one scan, milliseconds.
+struct OdometryTimes {
+  double deskew_ms = 0.0;
+  StageTimes registration;   ///< the current frame's build (grid, gradients, selection) + solve
+  double keyframe_ms = 0.0;  ///< decimating a new keyframe and rebuilding the reference
+  double totalMs() const { return deskew_ms + registration.totalMs() + keyframe_ms; }
+};
+
+/// The outcome of one scan.
+struct OdometryStep {
+  /// Pose of the vehicle at the scan's reference time in the odometry frame (the first scan's
+  /// vehicle frame), before any loop closure.
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  AlignmentResult registration;  ///< against the reference (none for the first scan)
+  bool registered = false;       ///< false for the first scan and for empty scans
+  bool new_keyframe = false;     ///< this scan became a keyframe
+  /// The new keyframe's points (deskewed, vehicle frame, decimated to map_voxel within
+  /// map_range); empty unless new_keyframe.
+  WeightedCloud keyframe_cloud;
+  OdometryTimes times;
+};
+
+/// DLO odometry over a stream of scans. Keeps only what the reference needs (the last scan's
+/// frame, or the recent keyframes' decimated clouds), so memory does not grow with the stream.
+class LidarOdometry {
+ public:
+  explicit LidarOdometry(const SlamParams& params);
+
+  /// Processes the next scan.
+  /// \param time seconds; must increase.
+  /// \param points vehicle frame at `time`.
+  /// \param point_times per-point seconds relative to `time`, or empty.
+  OdometryStep process(double time, const PointCloud& points,
+                       const std::vector<float>& point_times);
+
+  /// Current velocity estimate: body twist per second.
+  const Vector6d& velocity() const { return velocity_; }
+  size_t frames() const { return frames_; }
+
+ private:
+  struct RecentKeyframe {
+    Eigen::Isometry3d pose;  ///< odometry frame
+    WeightedCloud cloud;     ///< vehicle frame, keyframe_voxel
+  };
+
+  bool needsKeyframe(const Eigen::Isometry3d& pose, const AlignmentResult& r) const;
+  void addKeyframe(const Eigen::Isometry3d& pose, const PointCloud& points, OdometryStep& step);
+  void rebuildLocalMap();
+
+  SlamParams params_;
+  DirectAligner aligner_;
+  HeightFrame current_;    ///< reused for every scan
+  HeightFrame reference_;  ///< previous scan, last keyframe or local map
+  Eigen::Isometry3d reference_pose_ = Eigen::Isometry3d::Identity();  ///< odometry frame
+  std::deque<RecentKeyframe> recent_;
+  Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d last_keyframe_pose_ = Eigen::Isometry3d::Identity();
+  Vector6d velocity_ = Vector6d::Zero();
+  double last_time_ = 0.0;
+  size_t frames_ = 0;
+  bool has_reference_ = false;
+};
+
+}  // namespace dlo

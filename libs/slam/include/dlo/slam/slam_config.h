@@ -1,0 +1,28 @@
+/// \file slam_config.h
+/// \brief dlo::SlamParams <-> MRPT INI: sections [grid] [selection] [solver] (registration),
+/// [odometry] and [loop].
+#pragma once
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <string>
+#include <vector>
+
+#include "dlo/mrpt/param_table.h"
+#include "dlo/slam/slam_params.h"
+
+namespace dlo {
+
+/// The INI table of SlamParams: DloParams' keys followed by [odometry] and [loop].
+const ParamTable<SlamParams>& slamParamTable();
+
+/// Reads SlamParams from the INI file `path` (missing keys keep `defaults`).
+/// \throws InputError naming the file and the key.
+SlamParams loadSlamParamsFile(const std::string& path, const SlamParams& defaults = SlamParams());
+
+/// Applies "section.key=value" overrides (any of the five sections), then validates.
+void applySlamParamOverrides(SlamParams& params, const std::vector<std::string>& assignments);
+
+/// Commented INI text of all parameters.
+std::string slamParamsToIni(const SlamParams& params);
+
+}  // namespace dlo

@@ -1,0 +1,52 @@
+/// \file slam_params.h
+/// \brief Parameters of the odometry, keyframes and loop closure (INI sections [odometry] and
+/// [loop]); the registration itself is configured by dlo::DloParams.
+#pragma once
+
+#include <string>
+
+#include "dlo/core/dlo_params.h"
+
+namespace dlo {
+
+/// Odometry and keyframes (INI section [odometry]).
+struct OdometryParams {
+  /// What each scan is registered against: 0 = the previous scan (the paper's frame-to-frame),
+  /// 1 = the last keyframe, 2 = a local height map fused from the last `local_map_keyframes`.
+  int reference = 2;
+  int local_map_keyframes = 4;     ///< keyframes fused into the local map (reference = 2)
+  double keyframe_distance = 2.0;  ///< metres travelled since the last keyframe: new keyframe
+  double keyframe_angle = 10.0;    ///< degrees turned since the last keyframe: new keyframe
+  double keyframe_max_rms = 0.3;   ///< registration RMS height error (m) above this: new keyframe
+  double keyframe_voxel = 0.05;    ///< metres; decimation of keyframe clouds for the local map
+  double map_voxel = 0.2;          ///< metres; decimation of keyframe clouds kept for the map
+  double map_range = 40.0;         ///< metres; keyframe points farther than this are not kept
+  int deskew = 1;                  ///< 1: undo motion distortion when points carry times
+};
+
+/// Loop closure (INI section [loop]).
+struct LoopParams {
+  int enabled = 1;                 ///< 0 disables loop closure
+  double search_radius = 12.0;     ///< metres between keyframe positions to be a candidate
+  double min_path = 40.0;          ///< metres travelled between the two keyframes, at least
+  double resolution = 0.2;         ///< metres per cell of the verification grid
+  double window = 60.0;            ///< metres; side of the verification grid
+  double max_rms = 0.25;           ///< verification RMS height error above this (m): rejected
+  double min_inliers = 0.5;        ///< fraction of selected cells with a residual, at least
+  double max_correction = 6.0;     ///< metres between guess and verified pose, at most
+  double max_disagreement = 0.15;  ///< metres between two verifications from perturbed guesses
+  double min_sigma_xy = 0.05;      ///< metres; floor of edge standard deviations (x, y, z)
+  double min_sigma_angle = 0.2;    ///< degrees; floor of edge standard deviations (angles)
+};
+
+/// Everything dlo-slam is configured with.
+struct SlamParams {
+  DloParams registration;   ///< [grid] [selection] [solver]
+  OdometryParams odometry;  ///< [odometry]
+  LoopParams loop;          ///< [loop]
+
+  /// Empty when acceptable, otherwise one sentence naming section.key and the accepted range.
+  std::string validate() const;
+};
+
+}  // namespace dlo

@@ -1,0 +1,81 @@
+#include "dlo/slam/slam_config.h"
+
+#include "dlo/mrpt/dlo_config.h"
+
+namespace dlo {
+
+namespace {
+
+std::vector<ParamField<SlamParams>> fields() {
+  using S = SlamParams;
+  using O = OdometryParams;
+  using L = LoopParams;
+  std::vector<ParamField<S>> table;
+  for (const ParamField<DloParams>& f : dloParamFields()) {
+    table.push_back(liftField(f, &S::registration));
+  }
+  const std::vector<ParamField<S>> own = {
+      paramField("odometry", "reference", &S::odometry, &O::reference,
+                 "what each scan is registered against: 0 = previous scan (the paper's "
+                 "frame-to-frame), 1 = last keyframe, 2 = local map of recent keyframes"),
+      paramField("odometry", "local_map_keyframes", &S::odometry, &O::local_map_keyframes,
+                 "keyframes fused into the local map (reference = 2)"),
+      paramField("odometry", "keyframe_distance", &S::odometry, &O::keyframe_distance,
+                 "metres travelled since the last keyframe that make a new one"),
+      paramField("odometry", "keyframe_angle", &S::odometry, &O::keyframe_angle,
+                 "degrees turned since the last keyframe that make a new one"),
+      paramField("odometry", "keyframe_max_rms", &S::odometry, &O::keyframe_max_rms,
+                 "registration RMS height error (m) above which the scan becomes a keyframe"),
+      paramField("odometry", "keyframe_voxel", &S::odometry, &O::keyframe_voxel,
+                 "metres; decimation of keyframe clouds for the local map"),
+      paramField("odometry", "map_voxel", &S::odometry, &O::map_voxel,
+                 "metres; decimation of keyframe clouds kept for loop closure and the map"),
+      paramField("odometry", "map_range", &S::odometry, &O::map_range,
+                 "metres; keyframe points farther than this from the vehicle are not kept"),
+      paramField("odometry", "deskew", &S::odometry, &O::deskew,
+                 "1: undo motion distortion when the points carry per-point times; 0: off"),
+      paramField("loop", "enabled", &S::loop, &L::enabled, "1: search and close loops; 0: off"),
+      paramField("loop", "search_radius", &S::loop, &L::search_radius,
+                 "metres between keyframe positions for a loop candidate"),
+      paramField("loop", "min_path", &S::loop, &L::min_path,
+                 "metres travelled between the two keyframes of a candidate, at least"),
+      paramField("loop", "resolution", &S::loop, &L::resolution,
+                 "metres per cell of the verification grid"),
+      paramField("loop", "window", &S::loop, &L::window, "metres; side of the verification grid"),
+      paramField("loop", "max_rms", &S::loop, &L::max_rms,
+                 "verification RMS height error (m) above which a candidate is rejected"),
+      paramField("loop", "min_inliers", &S::loop, &L::min_inliers,
+                 "fraction of the selected cells that must keep a residual"),
+      paramField("loop", "max_correction", &S::loop, &L::max_correction,
+                 "metres between the guess and the verified pose, at most"),
+      paramField("loop", "max_disagreement", &S::loop, &L::max_disagreement,
+                 "metres between two verifications started from different guesses, at most"),
+      paramField("loop", "min_sigma_xy", &S::loop, &L::min_sigma_xy,
+                 "metres; floor of the standard deviations of graph edges (x, y, z)"),
+      paramField("loop", "min_sigma_angle", &S::loop, &L::min_sigma_angle,
+                 "degrees; floor of the standard deviations of graph edges (angles)"),
+  };
+  table.insert(table.end(), own.begin(), own.end());
+  return table;
+}
+
+}  // namespace
+
+const ParamTable<SlamParams>& slamParamTable() {
+  static const ParamTable<SlamParams> t(fields(), [](const SlamParams& p) { return p.validate(); });
+  return t;
+}
+
+SlamParams loadSlamParamsFile(const std::string& path, const SlamParams& defaults) {
+  return slamParamTable().loadFile(path, "", defaults);
+}
+
+void applySlamParamOverrides(SlamParams& params, const std::vector<std::string>& assignments) {
+  slamParamTable().applyOverrides(params, assignments);
+}
+
+std::string slamParamsToIni(const SlamParams& params) {
+  return slamParamTable().toIni(params, "");
+}
+
+}  // namespace dlo

@@ -1,0 +1,59 @@
+#include "dlo/slam/slam_params.h"
+
+#include <sstream>
+
+namespace dlo {
+
+namespace {
+template <typename T>
+std::string outOfRange(const char* key, T value, const char* expected) {
+  std::ostringstream s;
+  s << "parameter " << key << " = " << value << " is out of range: expected " << expected << ".";
+  return s.str();
+}
+}  // namespace
+
+std::string SlamParams::validate() const {
+  if (std::string e = registration.validate(); !e.empty()) return e;
+  const OdometryParams& o = odometry;
+  if (o.reference < 0 || o.reference > 2)
+    return outOfRange("odometry.reference", o.reference,
+                      "0 (frame), 1 (keyframe) or 2 (local map)");
+  if (o.local_map_keyframes < 1 || o.local_map_keyframes > 50)
+    return outOfRange("odometry.local_map_keyframes", o.local_map_keyframes, "1..50");
+  if (!(o.keyframe_distance > 0.0))
+    return outOfRange("odometry.keyframe_distance", o.keyframe_distance, "a positive distance");
+  if (!(o.keyframe_angle > 0.0))
+    return outOfRange("odometry.keyframe_angle", o.keyframe_angle, "a positive angle in degrees");
+  if (!(o.keyframe_max_rms > 0.0))
+    return outOfRange("odometry.keyframe_max_rms", o.keyframe_max_rms, "a positive height");
+  if (!(o.keyframe_voxel > 0.0 && o.keyframe_voxel <= 1.0))
+    return outOfRange("odometry.keyframe_voxel", o.keyframe_voxel, "(0, 1] metres");
+  if (!(o.map_voxel > 0.0 && o.map_voxel <= 5.0))
+    return outOfRange("odometry.map_voxel", o.map_voxel, "(0, 5] metres");
+  if (!(o.map_range > 1.0)) return outOfRange("odometry.map_range", o.map_range, "> 1 metre");
+  if (o.deskew != 0 && o.deskew != 1) return outOfRange("odometry.deskew", o.deskew, "0 or 1");
+  const LoopParams& l = loop;
+  if (l.enabled != 0 && l.enabled != 1) return outOfRange("loop.enabled", l.enabled, "0 or 1");
+  if (!(l.search_radius > 0.0))
+    return outOfRange("loop.search_radius", l.search_radius, "a positive distance");
+  if (!(l.min_path >= 0.0)) return outOfRange("loop.min_path", l.min_path, ">= 0 metres");
+  if (!(l.resolution > 0.0 && l.resolution <= 2.0))
+    return outOfRange("loop.resolution", l.resolution, "(0, 2] metres");
+  if (!(l.window >= 16 * l.resolution && l.window <= 500.0))
+    return outOfRange("loop.window", l.window, "16 cells of loop.resolution up to 500 metres");
+  if (!(l.max_rms > 0.0)) return outOfRange("loop.max_rms", l.max_rms, "a positive height");
+  if (!(l.min_inliers >= 0.0 && l.min_inliers <= 1.0))
+    return outOfRange("loop.min_inliers", l.min_inliers, "[0, 1]");
+  if (!(l.max_correction > 0.0))
+    return outOfRange("loop.max_correction", l.max_correction, "a positive distance");
+  if (!(l.max_disagreement > 0.0))
+    return outOfRange("loop.max_disagreement", l.max_disagreement, "a positive distance");
+  if (!(l.min_sigma_xy > 0.0))
+    return outOfRange("loop.min_sigma_xy", l.min_sigma_xy, "a positive distance");
+  if (!(l.min_sigma_angle > 0.0))
+    return outOfRange("loop.min_sigma_angle", l.min_sigma_angle, "a positive angle");
+  return {};
+}
+
+}  // namespace dlo

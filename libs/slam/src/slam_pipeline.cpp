@@ -1,0 +1,114 @@
+#include "dlo/slam/slam_pipeline.h"
+
+#include <cmath>
+
+#include "dlo/slam/keyframe_graph.h"
+
+namespace dlo {
+
+namespace {
+constexpr double kDeg = M_PI / 180.0;
+/// Keyframes to wait after an accepted loop before looking again: consecutive keyframes would
+/// mostly re-add the same constraint.
+constexpr int kLoopCooldown = 3;
+}  // namespace
+
+SlamPipeline::SlamPipeline(const SlamParams& params)
+    : params_(params), odometry_(params), loops_(params) {}
+
+void SlamPipeline::process(double time, const PointCloud& points,
+                           const std::vector<float>& point_times) {
+  Stopwatch total;
+  const OdometryStep step = odometry_.process(time, points, point_times);
+  ++counters_.frames;
+  if (!step.registered && counters_.frames > 1) ++counters_.empty_frames;
+  if (step.registered && step.registration.degenerate) ++counters_.degenerate_frames;
+  travelled_ += (last_odometry_.inverse() * step.pose).translation().norm();
+  last_odometry_ = step.pose;
+
+  Stopwatch loop_watch;
+  if (step.new_keyframe || map_.keyframes.empty()) addKeyframe(time, step);
+  const double loop_ms = loop_watch.elapsedMs();
+
+  FramePose f;
+  f.time = time;
+  f.keyframe = static_cast<int>(map_.keyframes.size()) - 1;
+  f.relative = kf_odometry_.back().inverse() * step.pose;
+  f.odometry = step.pose;
+  f.degenerate = step.registered && step.registration.degenerate;
+  f.rms_height_error = step.registration.rms_height_error;
+  map_.frames.push_back(f);
+
+  timings_.total.push_back(total.elapsedMs());
+  timings_.deskew.push_back(step.times.deskew_ms);
+  timings_.grid.push_back(step.times.registration.grid_ms);
+  timings_.gradients.push_back(step.times.registration.gradients_ms);
+  timings_.selection.push_back(step.times.registration.selection_ms);
+  timings_.solve.push_back(step.times.registration.solve_ms);
+  timings_.keyframe.push_back(step.times.keyframe_ms);
+  timings_.loop.push_back(loop_ms);
+}
+
+void SlamPipeline::addKeyframe(double time, const OdometryStep& step) {
+  Keyframe k;
+  k.id = static_cast<int>(map_.keyframes.size());
+  k.frame = static_cast<int>(map_.frames.size());
+  k.time = time;
+  k.cloud = step.keyframe_cloud;
+  if (k.id == 0) {
+    k.pose = step.pose;
+  } else {
+    // Chain from the previous keyframe's (possibly optimised) pose with the odometry motion.
+    const Eigen::Isometry3d relative = kf_odometry_.back().inverse() * step.pose;
+    k.pose = map_.keyframes.back().pose * relative;
+    PoseEdge e;
+    e.from = k.id - 1;
+    e.to = k.id;
+    e.relative = relative;
+    const LoopParams& l = params_.loop;
+    e.information = edgeInformation(relative, step.registration.covariance, l.min_sigma_xy,
+                                    l.min_sigma_angle * kDeg);
+    map_.edges.push_back(e);
+  }
+  map_.keyframes.push_back(std::move(k));
+  kf_odometry_.push_back(step.pose);
+  path_length_.push_back(travelled_);
+  if (params_.loop.enabled != 0) searchLoops(static_cast<int>(map_.keyframes.size()) - 1);
+}
+
+void SlamPipeline::searchLoops(int newest) {
+  if (newest - last_loop_keyframe_ < kLoopCooldown) return;
+  const std::vector<int> candidates = loops_.candidates(map_, newest, path_length_);
+  // The nearest candidates only: verification costs two registrations each.
+  constexpr size_t kMaxTries = 2;
+  for (size_t i = 0; i < candidates.size() && i < kMaxTries; ++i) {
+    const int from = candidates[i];
+    const Eigen::Isometry3d guess =
+        map_.keyframes[from].pose.inverse() * map_.keyframes[newest].pose;
+    if (tryLoop(from, newest, guess).accepted) {
+      last_loop_keyframe_ = newest;
+      break;
+    }
+  }
+}
+
+LoopCandidate SlamPipeline::tryLoop(int from, int to, const Eigen::Isometry3d& guess) {
+  PoseEdge edge;
+  LoopCandidate c = loops_.verify(map_.keyframes[from], map_.keyframes[to], guess, edge);
+  map_.loop_candidates.push_back(c);
+  if (c.accepted) {
+    ++counters_.loops_accepted;
+    map_.edges.push_back(edge);
+    optimise();
+  } else {
+    ++counters_.loops_rejected;
+  }
+  return c;
+}
+
+void SlamPipeline::optimise() {
+  optimisePoseGraph(map_);
+  ++counters_.optimisations;
+}
+
+}  // namespace dlo
