@@ -1,0 +1,53 @@
+/// \file trajectory_io.h
+/// \brief Reading and writing trajectories in the TUM and KITTI text formats.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "dlo/metrics/trajectory.h"
+
+namespace dlo::metrics {
+
+/// Text formats of trajectory files.
+enum class TrajectoryFormat {
+  kTum,    ///< "t x y z qx qy qz qw" per line (TUM RGB-D, evo); '#' starts a comment
+  kKitti,  ///< 12 numbers per line: the row-major 3x4 matrix [R | t]; no timestamps
+};
+
+/// Guesses the format from the first non-comment, non-empty line: 8 numbers are TUM, 12 KITTI.
+/// \throws std::runtime_error naming the file (and line) if it cannot be read or has neither.
+TrajectoryFormat detectTrajectoryFormat(const std::string& path);
+
+/// Reads a TUM file. Quaternions are normalised (files often carry 6 decimals).
+/// \throws std::runtime_error naming the file and the line number of a malformed line.
+Trajectory readTumTrajectory(const std::string& path);
+
+/// Reads a KITTI pose file. `times` gives the stamp of each pose (e.g. read with
+/// readTimestamps() from KITTI's times.txt); when empty, pose i is stamped i seconds. The rotation
+/// part is re-orthonormalised.
+/// \throws std::runtime_error naming the file and line if a line is malformed, or if `times` is
+///         non-empty and its size differs from the number of poses.
+Trajectory readKittiTrajectory(const std::string& path, const std::vector<double>& times = {});
+
+/// Reads either format, as detected by detectTrajectoryFormat(); `kitti_times` is used only for
+/// KITTI files (see readKittiTrajectory()).
+Trajectory readTrajectory(const std::string& path, const std::vector<double>& kitti_times = {});
+
+/// Reads one number per line (KITTI's times.txt); '#' comments and empty lines are skipped.
+/// \throws std::runtime_error naming the file and line of a malformed line.
+std::vector<double> readTimestamps(const std::string& path);
+
+/// Writes a TUM file (9 decimals: nanosecond stamps, sub-millimetre positions). The file is
+/// written to `path`.tmp and renamed, so `path` is either complete or untouched.
+/// \throws std::runtime_error naming the file if it cannot be written.
+void writeTumTrajectory(const std::string& path, const Trajectory& trajectory);
+
+/// Writes a KITTI pose file (12 numbers per line, timestamps are not stored), atomically like
+/// writeTumTrajectory().
+void writeKittiTrajectory(const std::string& path, const Trajectory& trajectory);
+
+/// Writes one timestamp per line (KITTI's times.txt), atomically.
+void writeTimestamps(const std::string& path, const std::vector<double>& times);
+
+}  // namespace dlo::metrics
