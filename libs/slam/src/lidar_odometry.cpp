@@ -36,27 +36,45 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   Stopwatch deskew_watch;
   const bool deskew = params_.odometry.deskew != 0 && !point_times.empty() && frames_ > 0;
   const PointCloud deskewed = deskew ? dlo::deskew(points, point_times, velocity_) : PointCloud();
-  const PointCloud& cloud = deskew ? deskewed : points;
   step.times.deskew_ms = deskew_watch.elapsedMs();
 
-  current_.build(cloud, reg.grid, reg.selection, reg.includeGround());
+  const PointCloud* cloud = deskew ? &deskewed : &points;
+  current_.build(*cloud, reg.grid, reg.selection, reg.includeGround());
   step.times.registration = current_.buildTimes();
 
   Eigen::Isometry3d pose = predicted;
   if (has_reference_ && !current_.empty()) {
     step.registration = aligner_.align(reference_, current_, reference_pose_.inverse() * predicted);
-    step.times.registration.solve_ms = step.registration.times.solve_ms;
     pose = reference_pose_ * step.registration.pose;
     step.registered = true;
+    step.times.registration.solve_ms += step.registration.times.solve_ms;
   }
   step.pose = pose;
 
-  if (frames_ > 0 && dt > 0.0 && dt < 1.0) velocity_ = logSE3(last_pose_.inverse() * pose) / dt;
+  if (frames_ > 0 && dt > 0.0 && dt < 1.0) {
+    // The velocity is measured over the last two intervals, not one. Deskewing with a velocity
+    // error d rotates the scan by about d/2, which the registration turns into a pose error of
+    // opposite sign, which the next one-interval velocity doubles: a period-2 oscillation that
+    // grew without bound in simulated turns. Over two intervals the loop gain drops below one.
+    const bool two = frames_ >= 2 && time - before_last_time_ < 1.0;
+    const Eigen::Isometry3d& from = two ? before_last_pose_ : last_pose_;
+    Vector6d v = logSE3(from.inverse() * pose) / (two ? time - before_last_time_ : dt);
+    // Only the planar motion (x, y, yaw) is carried from one scan to the next: a vehicle's
+    // vertical, roll and pitch rates are small and their per-scan estimates noisy; z, roll and
+    // pitch are observed afresh from the ground.
+    v(2) = v(3) = v(4) = 0.0;
+    velocity_ = v;
+  }
+  if (frames_ == 1 && !first_points_.empty()) redoFirstKeyframe();
 
   Stopwatch keyframe_watch;
   const bool first = frames_ == 0;
   if (!current_.empty() && (first || needsKeyframe(pose, step.registration))) {
-    addKeyframe(pose, cloud, step);
+    addKeyframe(pose, *cloud, step);
+    if (first && params_.odometry.deskew != 0 && !point_times.empty()) {
+      first_points_ = points;
+      first_times_ = point_times;
+    }
   }
   if (params_.odometry.reference == 0 && !current_.empty()) {
     // Frame to frame, as in the paper: this scan is the next reference.
@@ -66,6 +84,8 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   }
   step.times.keyframe_ms = keyframe_watch.elapsedMs();
 
+  before_last_pose_ = last_pose_;
+  before_last_time_ = last_time_;
   last_pose_ = pose;
   last_time_ = time;
   ++frames_;
@@ -95,6 +115,19 @@ void LidarOdometry::addKeyframe(const Eigen::Isometry3d& pose, const PointCloud&
   const size_t keep = o.reference == 1 ? 1 : static_cast<size_t>(o.local_map_keyframes);
   while (recent_.size() > keep) recent_.pop_front();
   rebuildLocalMap();
+}
+
+void LidarOdometry::redoFirstKeyframe() {
+  // The first two scans were registered raw, so the velocity they give is consistent; with it
+  // the first keyframe can now be deskewed like every later scan.
+  if (params_.odometry.reference != 0 && !recent_.empty()) {
+    const PointCloud deskewed = dlo::deskew(first_points_, first_times_, velocity_);
+    recent_.front().cloud =
+        voxelise(withinRange(deskewed, params_.odometry.map_range), params_.odometry.keyframe_voxel);
+    rebuildLocalMap();
+  }
+  first_points_ = PointCloud();
+  first_times_ = std::vector<float>();
 }
 
 void LidarOdometry::rebuildLocalMap() {

@@ -61,6 +61,7 @@ class LidarOdometry {
   bool needsKeyframe(const Eigen::Isometry3d& pose, const AlignmentResult& r) const;
   void addKeyframe(const Eigen::Isometry3d& pose, const PointCloud& points, OdometryStep& step);
   void rebuildLocalMap();
+  void redoFirstKeyframe();
 
   SlamParams params_;
   DirectAligner aligner_;
@@ -71,7 +72,13 @@ class LidarOdometry {
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d last_keyframe_pose_ = Eigen::Isometry3d::Identity();
   Vector6d velocity_ = Vector6d::Zero();
+  /// The first scan as measured: it could not be deskewed (no velocity yet), so it is redone
+  /// once the second scan gives a velocity, otherwise the whole local map stays distorted.
+  PointCloud first_points_;
+  std::vector<float> first_times_;
   double last_time_ = 0.0;
+  Eigen::Isometry3d before_last_pose_ = Eigen::Isometry3d::Identity();
+  double before_last_time_ = 0.0;
   size_t frames_ = 0;
   bool has_reference_ = false;
 };
