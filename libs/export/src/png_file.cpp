@@ -1,0 +1,21 @@
+#include "dlo/export/png_file.h"
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "dlo/export/atomic_file.h"
+
+namespace dlo {
+
+void writePng(const cv::Mat& image, const std::string& path) {
+  std::vector<unsigned char> bytes;
+  bool ok = false;
+  try {
+    ok = !image.empty() && cv::imencode(".png", image, bytes);
+  } catch (const cv::Exception&) {
+    ok = false;
+  }
+  if (!ok) throw ExportError("cannot write '" + path + "' (the image could not be encoded).");
+  writeBytesAtomically(path, bytes);
+}
+
+}  // namespace dlo

@@ -1,0 +1,41 @@
+#include "dlo/export/simple_map_export.h"
+
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CObservationPointCloud.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPose3DPDFGaussian.h>
+
+#include "dlo/export/atomic_file.h"
+#include "dlo/mrpt/pose_conversion.h"
+
+namespace dlo {
+
+mrpt::maps::CSimpleMap toSimpleMap(const SlamMap& map) {
+  mrpt::maps::CSimpleMap out;
+  for (const Keyframe& kf : map.keyframes) {
+    auto points = mrpt::maps::CSimplePointsMap::Create();
+    points->reserve(kf.cloud.size());
+    for (const WeightedPoint& wp : kf.cloud) points->insertPoint(wp.p.x(), wp.p.y(), wp.p.z());
+    auto obs = mrpt::obs::CObservationPointCloud::Create();
+    obs->sensorLabel = "LIDAR";
+    obs->timestamp = mrpt::Clock::fromDouble(kf.time);
+    obs->sensorPose = mrpt::poses::CPose3D();
+    obs->pointcloud = points;
+    auto frame = mrpt::obs::CSensoryFrame::Create();
+    frame->insert(obs);
+    auto pose = mrpt::poses::CPose3DPDFGaussian::Create();
+    pose->mean = toCPose3D(kf.pose);
+    pose->cov.setZero();
+    out.insert(pose, frame);
+  }
+  return out;
+}
+
+void exportSimpleMap(const SlamMap& map, const std::string& path) {
+  const mrpt::maps::CSimpleMap simple = toSimpleMap(map);
+  writeAtomically(path, [&](const std::string& temp) {
+    if (!simple.saveToFile(temp)) throw std::runtime_error("CSimpleMap::saveToFile failed");
+  });
+}
+
+}  // namespace dlo

@@ -1,0 +1,209 @@
+// exportAll() on a synthetic map, and every output loaded back with the reader its users have.
+#include <gtest/gtest.h>
+#include <mrpt/graphs/CNetworkOfPoses.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/maps/CHeightGridMap2D.h>
+#include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/obs/CObservationPointCloud.h>
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/poses/CPose3DPDFGaussian.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "dlo/export/export_all.h"
+#include "dlo/metrics/trajectory_io.h"
+#include "dlo/mrpt/ply_file.h"
+#include "dlo/mrpt/pose_conversion.h"
+#include "export_folder.h"
+#include "synthetic_map.h"
+
+namespace fs = std::filesystem;
+using dlo::test::SyntheticWorld;
+
+namespace {
+
+/// One export of the synthetic map shared by all tests of the suite (it is the slow part).
+class ExportAll : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    map_ = new dlo::SlamMap(dlo::test::makeSyntheticMap());
+    folder_ = new dlo::test::ExportFolder("all");
+    report_ = new dlo::ExportReport(dlo::exportAll(*map_, folder_->path().string()));
+  }
+  static void TearDownTestSuite() {
+    delete report_;
+    delete folder_;
+    delete map_;
+  }
+  static std::string file(const std::string& name) { return folder_->file(name); }
+  /// The warning about `name`, or "" if it was written.
+  static std::string warningAbout(const std::string& name) {
+    for (const std::string& w : report_->warnings) {
+      if (w.find(name) != std::string::npos) return w;
+    }
+    return "";
+  }
+
+  static dlo::SlamMap* map_;
+  static dlo::test::ExportFolder* folder_;
+  static dlo::ExportReport* report_;
+};
+
+dlo::SlamMap* ExportAll::map_ = nullptr;
+dlo::test::ExportFolder* ExportAll::folder_ = nullptr;
+dlo::ExportReport* ExportAll::report_ = nullptr;
+
+/// Output of a shell command and its exit status.
+std::pair<std::string, int> run(const std::string& command) {
+  std::string out;
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return {"", -1};
+  std::array<char, 256> buf;
+  while (std::fgets(buf.data(), buf.size(), pipe)) out += buf.data();
+  return {out, ::pclose(pipe)};
+}
+
+}  // namespace
+
+TEST_F(ExportAll, WritesEveryFileAndNoTemporaryOnes) {
+  for (const std::string& w : report_->warnings) ADD_FAILURE_AT(__FILE__, __LINE__) << w;
+  for (const char* name : {"trajectory.tum", "trajectory.kitti", "keyframes.graph", "map.simplemap",
+                           "heightmap.bin", "heightmap.png", "map.ply", "map.3Dscene"}) {
+    EXPECT_TRUE(fs::is_regular_file(file(name))) << name;
+    EXPECT_NE(std::find(report_->written.begin(), report_->written.end(), file(name)),
+              report_->written.end())
+        << name;
+  }
+  for (const auto& entry : fs::directory_iterator(folder_->path())) {
+    EXPECT_NE(entry.path().extension(), ".tmp") << entry.path();
+  }
+}
+
+TEST_F(ExportAll, TrajectoriesReadBackAsTheFramePoses) {
+  const auto tum = dlo::metrics::readTumTrajectory(file("trajectory.tum"));
+  const auto kitti = dlo::metrics::readKittiTrajectory(file("trajectory.kitti"));
+  ASSERT_EQ(tum.size(), map_->frames.size());
+  ASSERT_EQ(kitti.size(), map_->frames.size());
+  EXPECT_TRUE(tum.poses[0].isApprox(Eigen::Isometry3d::Identity(), 1e-9));
+  for (size_t i = 0; i < tum.size(); ++i) {
+    EXPECT_TRUE(tum.poses[i].isApprox(map_->framePose(i), 1e-7)) << i;
+    EXPECT_TRUE(kitti.poses[i].isApprox(map_->framePose(i), 1e-7)) << i;
+    EXPECT_NEAR(tum.times[i], map_->frames[i].time, 1e-9);
+  }
+}
+
+TEST_F(ExportAll, PoseGraphLoadsWithNodesEdgesAndInformationOrder) {
+  mrpt::graphs::CNetworkOfPoses3DInf graph;
+  graph.loadFromTextFile(file("keyframes.graph"));
+  EXPECT_EQ(graph.nodes.size(), map_->keyframes.size());
+  EXPECT_EQ(graph.edges.size(), map_->edges.size());
+  const auto pose3 = dlo::toIsometry(graph.nodes.at(3));
+  EXPECT_TRUE(pose3.isApprox(map_->keyframes[3].pose, 1e-8));
+  // The loop edge 9 -> 0 keeps x y z yaw pitch roll information in MRPT's order, through the
+  // file's roll-pitch-yaw layout.
+  const auto loop = graph.edges.find({9, 0});
+  ASSERT_NE(loop, graph.edges.end());
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(loop->second.cov_inv(i, i), 100.0 * (i + 1), 1e-9);
+  EXPECT_TRUE(dlo::toIsometry(loop->second.mean).isApprox(map_->edges.back().relative, 1e-8));
+}
+
+TEST_F(ExportAll, GraphSlamToolReadsThePoseGraph) {
+  if (!fs::exists("/usr/bin/graph-slam")) GTEST_SKIP() << "graph-slam (apt mrpt-apps) missing";
+  const auto [out, status] = run("/usr/bin/graph-slam --info --3d -i " + file("keyframes.graph"));
+  EXPECT_EQ(status, 0) << out;
+  EXPECT_NE(out.find("Edge count                         : 10"), std::string::npos) << out;
+  EXPECT_NE(out.find("Nodes count (in VERTEX2/3 entries) : 10"), std::string::npos) << out;
+}
+
+TEST_F(ExportAll, SimpleMapHoldsOnePointCloudPerKeyframe) {
+  mrpt::maps::CSimpleMap simple;
+  ASSERT_TRUE(simple.loadFromFile(file("map.simplemap")));
+  ASSERT_EQ(simple.size(), map_->keyframes.size());
+  for (size_t k = 0; k < simple.size(); ++k) {
+    const auto [pdf, frame] = simple.get(k);
+    mrpt::poses::CPose3D mean;
+    pdf->getMean(mean);
+    EXPECT_TRUE(dlo::toIsometry(mean).isApprox(map_->keyframes[k].pose, 1e-8)) << k;
+    const auto obs = frame->getObservationByClass<mrpt::obs::CObservationPointCloud>();
+    ASSERT_TRUE(obs) << k;
+    ASSERT_TRUE(obs->pointcloud);
+    EXPECT_EQ(obs->pointcloud->size(), map_->keyframes[k].cloud.size());
+    EXPECT_NEAR(mrpt::Clock::toDouble(obs->timestamp), map_->keyframes[k].time, 1e-6);
+  }
+}
+
+TEST_F(ExportAll, HeightGridHasTheBoxAndTheGround) {
+  mrpt::io::CFileGZInputStream in(file("heightmap.bin"));
+  mrpt::maps::CHeightGridMap2D grid;
+  mrpt::serialization::archiveFrom(in) >> grid;
+  EXPECT_NEAR(grid.getResolution(), 0.2, 1e-9);
+  double z = -1;
+  ASSERT_TRUE(grid.dem_get_z(SyntheticWorld::kBoxX + 0.5, SyntheticWorld::kBoxY - 0.7, z));
+  EXPECT_NEAR(z, SyntheticWorld::kBoxHeight, 1e-4);
+  // A ground cell next to keyframe 0 (at the origin); the ground lattice is 0.4 m, so pick a
+  // cell centred on a lattice point.
+  const auto* ground = grid.cellByPos(0.0, -4.0);
+  ASSERT_NE(ground, nullptr);
+  EXPECT_GT(ground->w, 0u);
+  EXPECT_NEAR(ground->h, 0.0, 1e-4);
+  // The grid covers every point plus the margin: the far side of the circle (y = 30 m) and the
+  // 20 m range around it.
+  EXPECT_GE(grid.getYMax(), 2 * SyntheticWorld::kRadius + 20.0);
+}
+
+TEST_F(ExportAll, PlyMapIsInTheWorldFrameAndDecimated) {
+  const dlo::PointCloud points = dlo::loadPlyFile(file("map.ply"));
+  ASSERT_GT(points.size(), 1000u);
+  size_t raw = 0;
+  for (const auto& kf : map_->keyframes) raw += kf.cloud.size();
+  EXPECT_LT(points.size(), raw);  // overlapping keyframes were merged
+  size_t on_box = 0;
+  for (const Eigen::Vector3f& p : points) {
+    EXPECT_GE(p.z(), -1e-4);
+    EXPECT_LE(p.z(), SyntheticWorld::kBoxHeight + 1e-4);
+    EXPECT_LE(std::hypot(p.x() - SyntheticWorld::kBoxX, p.y() - SyntheticWorld::kBoxY),
+              SyntheticWorld::kRadius + 20.5);
+    if (p.z() > SyntheticWorld::kBoxHeight - 0.01) ++on_box;
+  }
+  EXPECT_GT(on_box, 300u);  // the 4 x 4 m box top at 0.2 m voxels: ~400
+}
+
+TEST_F(ExportAll, SceneLoadsBack) {
+  mrpt::opengl::COpenGLScene scene;
+  ASSERT_TRUE(scene.loadFromFile(file("map.3Dscene")));
+  EXPECT_TRUE(scene.getByName("trajectory"));
+  EXPECT_TRUE(scene.getByName("loop_closures"));
+  // Cloud, trajectory, loops and one corner per keyframe.
+  EXPECT_EQ(scene.getViewport("main")->size(), 3 + map_->keyframes.size());
+}
+
+TEST_F(ExportAll, HeightMapImageIsColourfulWithTheTrajectory) {
+  const cv::Mat image = cv::imread(file("heightmap.png"), cv::IMREAD_COLOR);
+  ASSERT_FALSE(image.empty());
+  EXPECT_GE(std::max(image.cols, image.rows), 1000);
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(image, mean, stddev);
+  EXPECT_GT(stddev[0] + stddev[1] + stddev[2], 30.0);
+  // Magenta loop-closure pixels (the 9 -> 0 edge) are present.
+  cv::Mat magenta;
+  cv::inRange(image, cv::Scalar(200, 0, 200), cv::Scalar(255, 60, 255), magenta);
+  EXPECT_GT(cv::countNonZero(magenta), 20);
+}
+
+TEST_F(ExportAll, RenderedImageShowsTheMap) {
+  const std::string warning = warningAbout("map_render.png");
+  if (!warning.empty()) GTEST_SKIP() << "no off-screen rendering here: " << warning;
+  const cv::Mat image = cv::imread(file("map_render.png"), cv::IMREAD_COLOR);
+  ASSERT_FALSE(image.empty());
+  EXPECT_EQ(image.cols, 1280);
+  EXPECT_EQ(image.rows, 960);
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(image, mean, stddev);
+  EXPECT_GT(stddev[0] + stddev[1] + stddev[2], 20.0) << "blank render";
+}
