@@ -11,14 +11,21 @@ metrics::Trajectory frameTrajectory(const SlamMap& map) {
   return t;
 }
 
+// The metrics writers are atomic themselves and name `path`; only the exception type changes.
 void exportTrajectoryTum(const SlamMap& map, const std::string& path) {
-  const metrics::Trajectory t = frameTrajectory(map);
-  writeAtomically(path, [&](const std::string& temp) { metrics::writeTumTrajectory(temp, t); });
+  try {
+    metrics::writeTumTrajectory(path, frameTrajectory(map));
+  } catch (const std::runtime_error& e) {
+    throw ExportError(e.what());
+  }
 }
 
 void exportTrajectoryKitti(const SlamMap& map, const std::string& path) {
-  const metrics::Trajectory t = frameTrajectory(map);
-  writeAtomically(path, [&](const std::string& temp) { metrics::writeKittiTrajectory(temp, t); });
+  try {
+    metrics::writeKittiTrajectory(path, frameTrajectory(map));
+  } catch (const std::runtime_error& e) {
+    throw ExportError(e.what());
+  }
 }
 
 }  // namespace dlo

@@ -58,23 +58,27 @@ void forEachLine(const std::string& path, const std::function<void(const Line&)>
   }
 }
 
-/// Writes through `<path>.tmp` + rename, so readers never see a half-written file.
+/// Writes through `<path>.tmp` + rename, so readers never see a half-written file. Errors name
+/// `path`, the file the caller asked for, not the temporary one.
 void writeAtomically(const std::string& path, const std::function<void(std::FILE*)>& body) {
   const std::string temp = path + ".tmp";
   std::FILE* f = std::fopen(temp.c_str(), "w");
-  if (!f) throw std::runtime_error("cannot create '" + temp + "' (is the folder writable?).");
+  if (!f) {
+    throw std::runtime_error("cannot write '" + path +
+                             "' (its folder is missing or not writable).");
+  }
   body(f);
   const bool ok = !std::ferror(f);
   if (std::fclose(f) != 0 || !ok) {
     std::remove(temp.c_str());
-    throw std::runtime_error("cannot write '" + temp + "' (disk full?).");
+    throw std::runtime_error("cannot write '" + path + "' (disk full?).");
   }
   std::error_code ec;
   std::filesystem::rename(temp, path, ec);
   if (ec) {
     std::remove(temp.c_str());
-    throw std::runtime_error("cannot rename '" + temp + "' to '" + path + "': " + ec.message() +
-                             ".");
+    throw std::runtime_error("cannot write '" + path +
+                             "' (renaming its temporary file failed: " + ec.message() + ").");
   }
 }
 
