@@ -6,7 +6,10 @@
 namespace dlo {
 
 ProgressBar::ProgressBar(size_t total, std::string unit, bool enabled)
-    : total_(total), unit_(std::move(unit)), enabled_(enabled) {}
+    : total_(total),
+      unit_(std::move(unit)),
+      enabled_(enabled),
+      start_(std::chrono::steady_clock::now()) {}
 
 ProgressBar::~ProgressBar() {
   if (drawn_ && !finished_) std::fputc('\n', stderr);
@@ -29,13 +32,17 @@ void ProgressBar::finish(size_t done) {
 
 void ProgressBar::draw(size_t done) {
   drawn_ = true;
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double rate = seconds > 0.0 ? static_cast<double>(done) / seconds : 0.0;
   if (total_ == 0) {
-    std::fprintf(stderr, "\r%zu %s", done, unit_.c_str());
+    std::fprintf(stderr, "\r%zu %s (%.1f/s)   ", done, unit_.c_str(), rate);
   } else {
     constexpr size_t kWidth = 40;
     const size_t filled = std::min(kWidth, done * kWidth / total_);
     const std::string bar = std::string(filled, '#') + std::string(kWidth - filled, ' ');
-    std::fprintf(stderr, "\r[%s] %zu/%zu %s", bar.c_str(), done, total_, unit_.c_str());
+    std::fprintf(stderr, "\r[%s] %zu/%zu %s (%.1f/s)   ", bar.c_str(), done, total_, unit_.c_str(),
+                 rate);
   }
   std::fflush(stderr);
 }

@@ -1,12 +1,17 @@
 #include "dlo/slam/keyframe_graph.h"
 
+#include <mrpt/graphs/CNetworkOfPoses.h>
 #include <mrpt/graphslam/levmarq.h>
 
 #include "dlo/mrpt/pose_conversion.h"
 
 namespace dlo {
 
-mrpt::graphs::CNetworkOfPoses3DInf toPoseGraph(const SlamMap& map) {
+namespace {
+
+/// Nodes = keyframe poses, edges = odometry and accepted loop edges, node 0 fixed. (The
+/// exporter builds the same graph for keyframes.graph, from the optimised poses.)
+mrpt::graphs::CNetworkOfPoses3DInf buildPoseGraph(const SlamMap& map) {
   mrpt::graphs::CNetworkOfPoses3DInf graph;
   for (const Keyframe& k : map.keyframes) {
     graph.nodes[static_cast<mrpt::graphs::TNodeID>(k.id)] = toCPose3D(k.pose);
@@ -22,9 +27,11 @@ mrpt::graphs::CNetworkOfPoses3DInf toPoseGraph(const SlamMap& map) {
   return graph;
 }
 
+}  // namespace
+
 double optimisePoseGraph(SlamMap& map, int max_iterations) {
   if (map.keyframes.size() < 2) return 0.0;
-  mrpt::graphs::CNetworkOfPoses3DInf graph = toPoseGraph(map);
+  mrpt::graphs::CNetworkOfPoses3DInf graph = buildPoseGraph(map);
   mrpt::graphslam::TResultInfoSpaLevMarq info;
   mrpt::containers::yaml params = mrpt::containers::yaml::Map();
   params["max_iterations"] = static_cast<uint64_t>(max_iterations);

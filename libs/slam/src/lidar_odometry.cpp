@@ -65,7 +65,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     v(2) = v(3) = v(4) = 0.0;
     velocity_ = v;
   }
-  if (frames_ == 1 && !first_points_.empty()) redoFirstKeyframe();
+  if (frames_ == 1 && !first_points_.empty()) redoFirstKeyframe(step);
 
   Stopwatch keyframe_watch;
   const bool first = frames_ == 0;
@@ -117,13 +117,15 @@ void LidarOdometry::addKeyframe(const Eigen::Isometry3d& pose, const PointCloud&
   rebuildLocalMap();
 }
 
-void LidarOdometry::redoFirstKeyframe() {
+void LidarOdometry::redoFirstKeyframe(OdometryStep& step) {
   // The first two scans were registered raw, so the velocity they give is consistent; with it
   // the first keyframe can now be deskewed like every later scan.
+  const PointCloud deskewed = dlo::deskew(first_points_, first_times_, velocity_);
+  const WeightedCloud fine =
+      voxelise(withinRange(deskewed, params_.odometry.map_range), params_.odometry.keyframe_voxel);
+  step.first_keyframe_cloud = voxelise(fine, params_.odometry.map_voxel);
   if (params_.odometry.reference != 0 && !recent_.empty()) {
-    const PointCloud deskewed = dlo::deskew(first_points_, first_times_, velocity_);
-    recent_.front().cloud =
-        voxelise(withinRange(deskewed, params_.odometry.map_range), params_.odometry.keyframe_voxel);
+    recent_.front().cloud = fine;
     rebuildLocalMap();
   }
   first_points_ = PointCloud();

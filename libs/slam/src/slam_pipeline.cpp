@@ -26,6 +26,9 @@ void SlamPipeline::process(double time, const PointCloud& points,
   travelled_ += (last_odometry_.inverse() * step.pose).translation().norm();
   last_odometry_ = step.pose;
 
+  if (!step.first_keyframe_cloud.empty() && !map_.keyframes.empty()) {
+    map_.keyframes.front().cloud = step.first_keyframe_cloud;
+  }
   Stopwatch loop_watch;
   if (step.new_keyframe || map_.keyframes.empty()) addKeyframe(time, step);
   const double loop_ms = loop_watch.elapsedMs();

@@ -34,6 +34,7 @@ class ProgressBar {
   bool drawn_ = false;
   bool finished_ = false;
   std::chrono::steady_clock::time_point last_;
+  std::chrono::steady_clock::time_point start_;  ///< for the rate shown, units per second
 };
 
 }  // namespace dlo

@@ -2,15 +2,9 @@
 /// \brief The keyframe pose graph on MRPT's CNetworkOfPoses3DInf and its SPA optimiser.
 #pragma once
 
-#include <mrpt/graphs/CNetworkOfPoses.h>
-
 #include "dlo/slam/slam_map.h"
 
 namespace dlo {
-
-/// Builds the MRPT pose graph of a SlamMap (nodes = keyframe poses, edges = odometry and
-/// accepted loop edges, node 0 fixed).
-mrpt::graphs::CNetworkOfPoses3DInf toPoseGraph(const SlamMap& map);
 
 /// Optimises the keyframe poses of `map` with mrpt::graphslam::optimize_graph_spa_levmarq and
 /// writes them back. Frames follow their keyframes (their poses are stored relative to them).

@@ -32,6 +32,9 @@ struct OdometryStep {
   /// The new keyframe's points (deskewed, vehicle frame, decimated to map_voxel within
   /// map_range); empty unless new_keyframe.
   WeightedCloud keyframe_cloud;
+  /// Set once, on the second scan: the first keyframe's cloud deskewed now that a velocity is
+  /// known (same decimation as keyframe_cloud); replaces that keyframe's cloud.
+  WeightedCloud first_keyframe_cloud;
   OdometryTimes times;
 };
 
@@ -61,7 +64,7 @@ class LidarOdometry {
   bool needsKeyframe(const Eigen::Isometry3d& pose, const AlignmentResult& r) const;
   void addKeyframe(const Eigen::Isometry3d& pose, const PointCloud& points, OdometryStep& step);
   void rebuildLocalMap();
-  void redoFirstKeyframe();
+  void redoFirstKeyframe(OdometryStep& step);
 
   SlamParams params_;
   DirectAligner aligner_;

@@ -31,7 +31,7 @@ struct LoopParams {
   double min_path = 40.0;          ///< metres travelled between the two keyframes, at least
   double resolution = 0.2;         ///< metres per cell of the verification grid
   double window = 60.0;            ///< metres; side of the verification grid
-  double max_rms = 0.25;           ///< verification RMS height error above this (m): rejected
+  double max_rms = 0.45;           ///< verification RMS height error above this (m): rejected
   double min_inliers = 0.5;        ///< fraction of selected cells with a residual, at least
   double max_correction = 6.0;     ///< metres between guess and verified pose, at most
   double max_disagreement = 0.15;  ///< metres between two verifications from perturbed guesses

@@ -1,0 +1,274 @@
+// dlo-slam: LiDAR odometry, keyframe pose graph and loop closure over a rawlog or a Velodyne
+// capture, with GUI-free map export. The pipeline lives in libs/slam; this file parses the
+// command line, streams the input, and reports.
+#include <atomic>
+#include <csignal>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dlo/export/atomic_file.h"
+#include "dlo/export/export_all.h"
+#include "dlo/metrics/trajectory_io.h"
+#include "dlo/mrpt/input_error.h"
+#include "dlo/mrpt/progress_bar.h"
+#include "dlo/mrpt/rawlog_scan_source.h"
+#include "dlo/mrpt/velodyne_pcap_reader.h"
+#include "dlo/slam/slam_config.h"
+#include "dlo/slam/slam_pipeline.h"
+#include "dlo/slam/slam_report.h"
+
+namespace {
+
+constexpr const char* kUsage =
+    R"(Usage: dlo-slam --input IN --out DIR [--config FILE] [--gt GT.tum] [--set section.key=value]...
+                [--model VLP16|HDL32|HDL64] [--sensor-label L] [--min-range M] [--max-range M]
+                [--max-frames N] [--quiet] [--dump-config] [--help]
+
+Runs DLO odometry with a keyframe pose graph and loop closure over the LiDAR scans of IN and
+writes, into DIR (created if needed), each file atomically:
+  trajectory.tum, trajectory.kitti   one pose per scan, vehicle frame, relative to the first scan
+  keyframes.graph                    optimised pose graph (MRPT graph-slam reads it)
+  map.simplemap                      keyframes with their point clouds (CSimpleMap)
+  heightmap.bin, heightmap.png       CHeightGridMap2D of the whole area; colour image with the
+                                     trajectory and loop closures
+  map.ply                            voxel-downsampled point-cloud map
+  map.3Dscene, map_render.png        3D scene, and its off-screen rendering
+  report.json                        ms per frame (median, p95), stages, keyframes, loops,
+                                     degenerate frames, peak memory, configuration, and with
+                                     --gt: ATE and KITTI drift before and after loop closure
+
+Input:
+  IN.rawlog / IN.rawlog.gz   MRPT rawlog, either layout: Velodyne scans, point clouds, 3D range
+                             scans (convert KITTI folders with dlo-kitti2rawlog);
+  IN.pcap                    Velodyne capture; needs --model.
+
+Options:
+  --config FILE        MRPT INI with [grid] [selection] [solver] [odometry] [loop]; see
+                       config/dlo-slam.ini (every key commented) or --dump-config.
+  --set section.key=value
+                       overrides one parameter after --config; may be repeated.
+  --gt FILE            ground truth (TUM or KITTI poses) for report.json's accuracy.
+  --sensor-label L     only observations with this sensor label.
+  --min-range M        drop points closer than M metres to the sensor (default 2.0: the vehicle).
+  --max-range M        drop points farther than M metres (default 120).
+  --max-frames N       stop after N scans.
+  --quiet              no progress bar.
+  --dump-config        print the effective configuration as INI and exit.
+  --help               print this text.
+
+SIGINT or SIGTERM stops the run after the current scan; the outputs for what was processed are
+written, then dlo-slam exits with status 3.
+Exit status: 0 on success, 1 for a bad input file or parameter, 2 for a command-line error,
+3 when interrupted; errors are one line on stderr starting with "dlo-slam: ".
+)";
+
+std::atomic<bool> g_stop{false};
+void onSignal(int) {
+  g_stop = true;
+}
+
+struct UsageError {
+  std::string message;
+};
+
+struct Arguments {
+  std::string input, out, config, gt, model, sensor_label;
+  std::vector<std::string> sets;
+  double min_range = 2.0;
+  double max_range = 120.0;
+  long max_frames = -1;
+  bool quiet = false, dump_config = false, help = false;
+};
+
+double toNumber(const std::string& option, const std::string& text) {
+  try {
+    size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size()) return v;
+  } catch (const std::exception&) {
+  }
+  throw UsageError{option + " expects a number, got '" + text + "'."};
+}
+
+Arguments parseArguments(int argc, char** argv) {
+  Arguments a;
+  const std::vector<std::string> with_value = {
+      "--input", "--out",          "--config",    "--gt",        "--set",
+      "--model", "--sensor-label", "--min-range", "--max-range", "--max-frames"};
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i], value;
+    if (arg == "--help" || arg == "-h") {
+      a.help = true;
+      return a;
+    }
+    if (arg == "--quiet") {
+      a.quiet = true;
+      continue;
+    }
+    if (arg == "--dump-config") {
+      a.dump_config = true;
+      continue;
+    }
+    const auto eq = arg.find('=');
+    if (arg.rfind("--", 0) == 0 && eq != std::string::npos) {
+      value = arg.substr(eq + 1);
+      arg = arg.substr(0, eq);
+    } else if (std::find(with_value.begin(), with_value.end(), arg) != with_value.end()) {
+      if (i + 1 >= argc) throw UsageError{arg + " needs a value."};
+      value = argv[++i];
+    } else {
+      throw UsageError{"unexpected argument '" + arg + "' (see --help)."};
+    }
+    if (arg == "--input")
+      a.input = value;
+    else if (arg == "--out")
+      a.out = value;
+    else if (arg == "--config")
+      a.config = value;
+    else if (arg == "--gt")
+      a.gt = value;
+    else if (arg == "--set")
+      a.sets.push_back(value);
+    else if (arg == "--model")
+      a.model = value;
+    else if (arg == "--sensor-label")
+      a.sensor_label = value;
+    else if (arg == "--min-range")
+      a.min_range = toNumber(arg, value);
+    else if (arg == "--max-range")
+      a.max_range = toNumber(arg, value);
+    else if (arg == "--max-frames")
+      a.max_frames = static_cast<long>(toNumber(arg, value));
+    else
+      throw UsageError{"unknown option '" + arg + "' (see --help)."};
+  }
+  if (a.dump_config) return a;
+  if (a.input.empty()) throw UsageError{"--input is required (see --help)."};
+  if (a.out.empty()) throw UsageError{"--out is required (see --help)."};
+  if (!(a.min_range >= 0.0 && a.max_range > a.min_range)) {
+    throw UsageError{"--min-range and --max-range must satisfy 0 <= min < max."};
+  }
+  return a;
+}
+
+std::unique_ptr<dlo::ScanSource> openSource(const Arguments& a) {
+  dlo::ScanSourceOptions options;
+  options.min_range = a.min_range;
+  options.max_range = a.max_range;
+  options.sensor_label = a.sensor_label;
+  const std::string ext = std::filesystem::path(a.input).extension().string();
+  if (ext == ".pcap") {
+    if (a.model.empty()) throw UsageError{"reading a .pcap needs --model VLP16|HDL32|HDL64."};
+    return std::make_unique<dlo::VelodynePcapScanSource>(a.input, dlo::parseVelodyneModel(a.model),
+                                                         options);
+  }
+  if (std::filesystem::is_directory(a.input)) {
+    throw dlo::InputError("input '" + a.input +
+                          "' is a folder: convert a KITTI sequence with dlo-kitti2rawlog first.");
+  }
+  return std::make_unique<dlo::RawlogScanSource>(a.input, options);
+}
+
+int run(const Arguments& args) {
+  dlo::SlamParams params;
+  if (!args.config.empty()) params = dlo::loadSlamParamsFile(args.config);
+  dlo::applySlamParamOverrides(params, args.sets);
+  if (args.dump_config) {
+    std::cout << dlo::slamParamsToIni(params);
+    return 0;
+  }
+  std::optional<dlo::metrics::Trajectory> ground_truth;
+  if (!args.gt.empty()) {
+    try {
+      ground_truth = dlo::metrics::readTrajectory(args.gt);
+    } catch (const std::exception& e) {
+      throw dlo::InputError("cannot read ground truth '" + args.gt + "': " + e.what());
+    }
+  }
+  std::error_code ec;
+  std::filesystem::create_directories(args.out, ec);
+  if (!std::filesystem::is_directory(args.out)) {
+    throw dlo::InputError("cannot create output folder '" + args.out + "'.");
+  }
+  std::unique_ptr<dlo::ScanSource> source = openSource(args);
+
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+  dlo::SlamPipeline slam(params);
+  dlo::ProgressBar bar(0, "scans", !args.quiet);
+  dlo::TimedScan scan;
+  size_t frames = 0;
+  while (!g_stop && (args.max_frames < 0 || static_cast<long>(frames) < args.max_frames) &&
+         source->next(scan)) {
+    slam.process(scan.timestampSeconds(), scan.points, scan.point_times);
+    bar.update(++frames);
+  }
+  bar.finish(frames);
+  const bool interrupted = g_stop;
+  const std::string input_error = source->stats().error;
+  if (!input_error.empty()) std::cerr << "dlo-slam: warning: " << input_error << "\n";
+  if (slam.map().frames.empty()) {
+    throw dlo::InputError("input '" + args.input + "' holds no usable scan.\n" +
+                          dlo::describeScanSourceStats(source->stats()));
+  }
+
+  std::optional<dlo::SlamAccuracy> accuracy;
+  if (ground_truth) {
+    try {
+      accuracy = dlo::evaluateAgainst(slam.map(), *ground_truth);
+    } catch (const std::exception& e) {
+      std::cerr << "dlo-slam: warning: no accuracy figures: ground truth '" << args.gt
+                << "': " << e.what() << "\n";
+    }
+  }
+  dlo::ExportOptions export_options;
+  export_options.map_voxel = params.odometry.map_voxel;
+  const dlo::ExportReport exported = dlo::exportAll(slam.map(), args.out, export_options);
+  for (const std::string& w : exported.warnings) std::cerr << "dlo-slam: warning: " << w << "\n";
+  const std::string report = dlo::slamReportJson(slam, args.input, dlo::slamParamsToIni(params),
+                                                 accuracy, interrupted, input_error);
+  const std::string report_path = (std::filesystem::path(args.out) / "report.json").string();
+  dlo::writeBytesAtomically(report_path, std::vector<unsigned char>(report.begin(), report.end()));
+
+  std::vector<double> ms = slam.timings().total;
+  std::sort(ms.begin(), ms.end());
+  std::cout << "dlo-slam: " << slam.counters().frames << " scans, " << slam.map().keyframes.size()
+            << " keyframes, " << slam.counters().loops_accepted << " loops closed ("
+            << slam.counters().loops_rejected << " rejected), " << slam.counters().degenerate_frames
+            << " degenerate; " << ms[ms.size() / 2] << " ms/scan median";
+  if (accuracy) {
+    std::cout << "; ATE " << accuracy->ate_rmse_before << " m before, " << accuracy->ate_rmse_after
+              << " m after loop closure";
+  }
+  std::cout << "; outputs in '" << args.out << "'" << (interrupted ? " (interrupted)" : "")
+            << ".\n";
+  return interrupted ? 3 : 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const Arguments args = parseArguments(argc, argv);
+    if (args.help) {
+      std::cout << kUsage;
+      return 0;
+    }
+    return run(args);
+  } catch (const UsageError& e) {
+    std::cerr << "dlo-slam: " << e.message << "\n";
+    return 2;
+  } catch (const dlo::InputError& e) {
+    std::cerr << "dlo-slam: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::string what = e.what();
+    what = what.substr(0, what.find('\n'));  // MRPT exceptions carry a stack trace
+    std::cerr << "dlo-slam: " << what << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,177 @@
+#include "dlo/slam/slam_report.h"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "dlo/metrics/absolute_trajectory_error.h"
+#include "dlo/metrics/kitti_drift.h"
+#include "dlo/metrics/timestamp_matching.h"
+
+namespace dlo {
+
+namespace {
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t i = static_cast<size_t>(std::ceil(q * static_cast<double>(v.size()))) - 1;
+  return v[std::min(i, v.size() - 1)];
+}
+
+std::string number(double x) {
+  if (!std::isfinite(x)) return "null";
+  std::ostringstream s;
+  s.precision(6);
+  s << x;
+  return s.str();
+}
+
+std::string quoted(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    switch (c) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", c);
+          out += buf;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+std::string stats(const std::vector<double>& v) {
+  return "{\"median\": " + number(percentile(v, 0.5)) +
+         ", \"p95\": " + number(percentile(v, 0.95)) + "}";
+}
+
+metrics::Trajectory trajectoryOf(const SlamMap& map, bool optimised) {
+  metrics::Trajectory t;
+  for (size_t i = 0; i < map.frames.size(); ++i) {
+    t.times.push_back(map.frames[i].time);
+    t.poses.push_back(optimised ? map.framePose(i) : map.frames[i].odometry);
+  }
+  return t;
+}
+
+}  // namespace
+
+metrics::Trajectory slamTrajectory(const SlamMap& map) {
+  return trajectoryOf(map, true);
+}
+metrics::Trajectory odometryTrajectory(const SlamMap& map) {
+  return trajectoryOf(map, false);
+}
+
+SlamAccuracy evaluateAgainst(const SlamMap& map, const metrics::Trajectory& ground_truth) {
+  constexpr double kMaxDt = 0.005;
+  SlamAccuracy a;
+  const auto [after, ref] = metrics::matchedTrajectories(slamTrajectory(map), ground_truth, kMaxDt);
+  const auto [before, ref2] =
+      metrics::matchedTrajectories(odometryTrajectory(map), ground_truth, kMaxDt);
+  if (after.size() < 3 || before.size() < 3) {
+    throw std::runtime_error("only " + std::to_string(after.size()) +
+                             " poses match the ground truth by timestamp (within 5 ms).");
+  }
+  a.matched = after.size();
+  const metrics::AteResult ate_after =
+      metrics::absoluteTrajectoryError(after, ref, metrics::Alignment::kUmeyama);
+  const metrics::AteResult ate_before =
+      metrics::absoluteTrajectoryError(before, ref2, metrics::Alignment::kUmeyama);
+  a.ate_rmse_after = ate_after.error.rmse;
+  a.ate_max_after = ate_after.error.max;
+  a.ate_rmse_before = ate_before.error.rmse;
+  a.ate_max_before = ate_before.error.max;
+  // The final error in the first pose's frame: how far the run ends from where it should.
+  const metrics::AteResult first_after =
+      metrics::absoluteTrajectoryError(after, ref, metrics::Alignment::kFirstPose);
+  const metrics::AteResult first_before =
+      metrics::absoluteTrajectoryError(before, ref2, metrics::Alignment::kFirstPose);
+  a.final_error_after =
+      ((first_after.transform * after.poses.back()).translation() - ref.poses.back().translation())
+          .norm();
+  a.final_error_before = ((first_before.transform * before.poses.back()).translation() -
+                          ref2.poses.back().translation())
+                             .norm();
+  const metrics::KittiDriftResult d_after = metrics::kittiDrift(after, ref);
+  const metrics::KittiDriftResult d_before = metrics::kittiDrift(before, ref2);
+  a.drift_percent_after = d_after.translation_percent;
+  a.drift_percent_before = d_before.translation_percent;
+  a.drift_deg_per_100m_after = d_after.rotation_deg_per_100m;
+  a.drift_deg_per_100m_before = d_before.rotation_deg_per_100m;
+  std::ostringstream lengths;
+  for (size_t i = 0; i < d_after.per_length.size(); ++i) {
+    lengths << (i ? ", " : "") << number(d_after.per_length[i].length) << " m";
+  }
+  a.drift_lengths = lengths.str();
+  return a;
+}
+
+double peakMemoryMb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+std::string slamReportJson(const SlamPipeline& pipeline, const std::string& input,
+                           const std::string& config_ini,
+                           const std::optional<SlamAccuracy>& accuracy, bool interrupted,
+                           const std::string& input_error) {
+  const PipelineTimings& t = pipeline.timings();
+  const PipelineCounters& c = pipeline.counters();
+  const SlamMap& map = pipeline.map();
+  std::ostringstream o;
+  o << "{\n  \"input\": " << quoted(input) << ",\n";
+  o << "  \"frames\": " << c.frames << ",\n  \"keyframes\": " << map.keyframes.size() << ",\n";
+  o << "  \"ms_per_frame\": " << stats(t.total) << ",\n";
+  o << "  \"stages_ms\": {\"deskew\": " << stats(t.deskew) << ", \"grid\": " << stats(t.grid)
+    << ", \"gradients\": " << stats(t.gradients) << ", \"selection\": " << stats(t.selection)
+    << ", \"solve\": " << stats(t.solve) << ", \"keyframe\": " << stats(t.keyframe)
+    << ", \"loop_closure\": " << stats(t.loop) << "},\n";
+  o << "  \"loop_closures\": {\"accepted\": " << c.loops_accepted
+    << ", \"rejected\": " << c.loops_rejected << ", \"optimisations\": " << c.optimisations
+    << "},\n";
+  o << "  \"degenerate_frames\": " << c.degenerate_frames << ",\n";
+  o << "  \"empty_frames\": " << c.empty_frames << ",\n";
+  o << "  \"peak_memory_mb\": " << number(peakMemoryMb()) << ",\n";
+  o << "  \"interrupted\": " << (interrupted ? "true" : "false") << ",\n";
+  o << "  \"input_error\": " << (input_error.empty() ? "null" : quoted(input_error)) << ",\n";
+  if (accuracy) {
+    const SlamAccuracy& a = *accuracy;
+    o << "  \"accuracy\": {\"alignment\": \"umeyama-se3\", \"matched_poses\": " << a.matched
+      << ",\n    \"before_loop_closure\": {\"ate_rmse_m\": " << number(a.ate_rmse_before)
+      << ", \"ate_max_m\": " << number(a.ate_max_before)
+      << ", \"final_error_m\": " << number(a.final_error_before)
+      << ", \"drift_percent\": " << number(a.drift_percent_before)
+      << ", \"drift_deg_per_100m\": " << number(a.drift_deg_per_100m_before) << "},\n"
+      << "    \"after_loop_closure\": {\"ate_rmse_m\": " << number(a.ate_rmse_after)
+      << ", \"ate_max_m\": " << number(a.ate_max_after)
+      << ", \"final_error_m\": " << number(a.final_error_after)
+      << ", \"drift_percent\": " << number(a.drift_percent_after)
+      << ", \"drift_deg_per_100m\": " << number(a.drift_deg_per_100m_after) << "},\n"
+      << "    \"drift_segment_lengths\": " << quoted(a.drift_lengths) << "},\n";
+  }
+  o << "  \"config\": " << quoted(config_ini) << "\n}\n";
+  return o.str();
+}
+
+}  // namespace dlo
