@@ -150,6 +150,16 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
   o << "  \"loop_closures\": {\"accepted\": " << c.loops_accepted
     << ", \"rejected\": " << c.loops_rejected << ", \"optimisations\": " << c.optimisations
     << "},\n";
+  // The verdict on every candidate (capped), so that a user can see why a loop did not close.
+  constexpr size_t kMaxCandidates = 500;
+  o << "  \"loop_candidates\": [";
+  for (size_t i = 0; i < map.loop_candidates.size() && i < kMaxCandidates; ++i) {
+    const LoopCandidate& l = map.loop_candidates[i];
+    o << (i ? ",\n    " : "\n    ") << "{\"from\": " << l.from << ", \"to\": " << l.to
+      << ", \"accepted\": " << (l.accepted ? "true" : "false")
+      << ", \"reason\": " << quoted(l.reason) << "}";
+  }
+  o << "],\n";
   o << "  \"degenerate_frames\": " << c.degenerate_frames << ",\n";
   o << "  \"empty_frames\": " << c.empty_frames << ",\n";
   o << "  \"peak_memory_mb\": " << number(peakMemoryMb()) << ",\n";

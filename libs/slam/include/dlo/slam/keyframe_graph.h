@@ -11,8 +11,10 @@ namespace dlo {
 /// \return the final sum of squared errors.
 double optimisePoseGraph(SlamMap& map, int max_iterations = 100);
 
-/// Information matrix (MRPT order x, y, z, yaw, pitch, roll) of a registration covariance given
-/// in twist order around `pose`, with standard deviations floored at `min_sigma_xy` metres and
+/// Information matrix of an edge whose measured pose is `pose`, from a registration covariance
+/// given in twist order (left perturbation). The result is in the order MRPT's graph-slam
+/// optimiser applies it to the edge error SE3::log(D^-1 P1^-1 P2): [x y z rx ry rz], a right
+/// perturbation of the edge pose; with standard deviations floored at `min_sigma_xy` metres and
 /// `min_sigma_angle` radians: DLO's covariance from thousands of cells is optimistic, and an
 /// over-confident edge would pin the graph.
 Matrix6d edgeInformation(const Eigen::Isometry3d& pose, const Matrix6d& twist_covariance,

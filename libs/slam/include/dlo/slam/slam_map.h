@@ -42,7 +42,9 @@ struct PoseEdge {
   int to = 0;    ///< keyframe id
   /// Pose of `to` in the frame of `from`.
   Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();
-  /// Information matrix, order (x, y, z, yaw, pitch, roll) as MRPT's CPose3DPDFGaussianInf.
+  /// Information matrix in the order MRPT's graph-slam uses it (CPose3DPDFGaussianInf::cov_inv
+  /// applied to the error SE3::log(D^-1 P1^-1 P2)): [x y z rx ry rz] of a right perturbation of
+  /// `relative`.
   Matrix6d information = Matrix6d::Identity();
   bool loop = false;
 };
