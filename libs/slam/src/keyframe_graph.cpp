@@ -1,10 +1,10 @@
 #include "dlo/slam/keyframe_graph.h"
 
-#include <Eigen/Eigenvalues>
 #include <mrpt/graphs/CNetworkOfPoses.h>
+#include <mrpt/graphslam/levmarq.h>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <mrpt/graphslam/levmarq.h>
 
 #include "dlo/mrpt/pose_conversion.h"
 
@@ -13,7 +13,7 @@ namespace dlo {
 namespace {
 
 /// Largest standard deviations an edge may claim (see edgeInformation()).
-constexpr double kMaxSigmaXY = 1.0;                 // metres
+constexpr double kMaxSigmaXY = 1.0;                  // metres
 constexpr double kMaxSigmaAngle = 5.0 * M_PI / 180;  // radians
 
 /// Nodes = keyframe poses, edges = odometry and accepted loop edges, node 0 fixed. (The

@@ -16,7 +16,7 @@ constexpr double kSearchResolution = 0.8;
 constexpr double kSearchOffsets[] = {-4.0, -2.0, 0.0, 2.0, 4.0};
 constexpr double kSearchYaws[] = {-12.0, -6.0, 0.0, 6.0, 12.0};
 /// Two coarse results this far apart are different basins.
-constexpr double kDistinctBasin = 1.5;             // metres
+constexpr double kDistinctBasin = 1.5;              // metres
 constexpr double kDistinctBasinAngle = 5.0 * kDeg;  // radians
 /// A different basin whose RMS is within this factor of the best makes the place ambiguous.
 constexpr double kAmbiguityRatio = 1.05;
@@ -81,7 +81,8 @@ LoopCandidate LoopCloser::verify(const Keyframe& from, const Keyframe& to,
   coarse.grid.resolution = kSearchResolution;
   coarse.grid.cols = coarse.grid.rows = static_cast<int>(std::lround(l.window / kSearchResolution));
   coarse.grid.levels = 1;
-  ref_coarse.build(from.cloud, Eigen::Isometry3d::Identity(), coarse.grid, coarse.selection, ground);
+  ref_coarse.build(from.cloud, Eigen::Isometry3d::Identity(), coarse.grid, coarse.selection,
+                   ground);
   cur_coarse.build(to.cloud, Eigen::Isometry3d::Identity(), coarse.grid, coarse.selection, ground);
   const DirectAligner coarse_aligner(coarse.solver);
   struct Basin {
@@ -125,10 +126,9 @@ LoopCandidate LoopCloser::verify(const Keyframe& from, const Keyframe& to,
     const double inliers = selected > 0 ? r.cells / selected : 0.0;
     return inliers >= l.min_inliers ? r.rms_height_error : std::numeric_limits<double>::infinity();
   };
-  const auto best = std::min_element(refined.begin(), refined.end(),
-                                     [&](const AlignmentResult& a, const AlignmentResult& b) {
-                                       return fit(a) < fit(b);
-                                     });
+  const auto best = std::min_element(
+      refined.begin(), refined.end(),
+      [&](const AlignmentResult& a, const AlignmentResult& b) { return fit(a) < fit(b); });
   // A true loop has one basin: another pose fitting nearly as well means a repetitive or
   // ambiguous place (parallel streets, a row of identical buildings), so it is refused.
   for (const AlignmentResult& other : refined) {

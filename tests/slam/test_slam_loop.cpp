@@ -1,0 +1,169 @@
+// dlo-slam end to end on a simulated drive around a block (HDL-64, 280 scans, one closed loop):
+// odometry, loop closure, a planted wrong loop, every output loading back, both reference modes.
+#include <gtest/gtest.h>
+#include <mrpt/graphs/CNetworkOfPoses.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/maps/CHeightGridMap2D.h>
+#include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "dlo/export/export_all.h"
+#include "dlo/metrics/trajectory_io.h"
+#include "dlo/mrpt/rawlog_scan_source.h"
+#include "dlo/slam/slam_pipeline.h"
+#include "dlo/slam/slam_report.h"
+
+namespace dlo {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// One simulated loop and one in-process SLAM run over it, shared by the tests of this file.
+class SimulatedLoop : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(fs::temp_directory_path() / "dlo_slam_loop_test");
+    fs::remove_all(*dir_);
+    fs::create_directories(*dir_);
+    const std::string cmd = std::string(DLO_SIMULATE_BINARY) + " --out " + dir_->string() +
+                            " --frames 280 --sensor HDL64 --seed 7 --quiet";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    truth_ = new metrics::Trajectory(metrics::readTrajectory(rawlog(".tum")));
+    slam_ = new SlamPipeline(SlamParams());
+    RawlogScanSource source(rawlog(".rawlog"));
+    TimedScan scan;
+    while (source.next(scan))
+      slam_->process(scan.timestampSeconds(), scan.points, scan.point_times);
+    ASSERT_TRUE(source.stats().error.empty()) << source.stats().error;
+  }
+  static void TearDownTestSuite() {
+    delete slam_;
+    delete truth_;
+    if (!std::getenv("DLO_KEEP_TEST_OUTPUT")) fs::remove_all(*dir_);
+    delete dir_;
+  }
+  static std::string rawlog(const std::string& ext) {
+    return (*dir_ / (ext == ".tum" ? "groundtruth.tum" : "sequence.rawlog")).string();
+  }
+
+  static fs::path* dir_;
+  static metrics::Trajectory* truth_;
+  static SlamPipeline* slam_;
+};
+fs::path* SimulatedLoop::dir_ = nullptr;
+metrics::Trajectory* SimulatedLoop::truth_ = nullptr;
+SlamPipeline* SimulatedLoop::slam_ = nullptr;
+
+TEST_F(SimulatedLoop, ClosesTheLoopAndEndsWithinHalfAMetre) {
+  ASSERT_EQ(slam_->counters().frames, 280u);
+  EXPECT_GE(slam_->counters().loops_accepted, 1u);
+  const SlamAccuracy a = evaluateAgainst(slam_->map(), *truth_);
+  EXPECT_EQ(a.matched, 280u);
+  EXPECT_LT(a.final_error_after, 0.5);
+  EXPECT_LT(a.ate_rmse_after, 0.5);
+  // Loop closure may not make a good odometry much better, but it must not make it worse.
+  EXPECT_LT(a.ate_rmse_after, a.ate_rmse_before + 0.02);
+}
+
+TEST_F(SimulatedLoop, RejectsAPlantedWrongLoop) {
+  // Two keyframes on opposite sides of the block, claimed to be at the same place.
+  const SlamMap& map = slam_->map();
+  const int n = static_cast<int>(map.keyframes.size());
+  ASSERT_GT(n, 40);
+  const int a = 2, b = n / 2;
+  ASSERT_GT((map.keyframes[a].pose.translation() - map.keyframes[b].pose.translation()).norm(),
+            25.0);
+  SlamPipeline copy = *slam_;
+  const size_t accepted = copy.counters().loops_accepted;
+  const LoopCandidate c = copy.tryLoop(a, b, Eigen::Isometry3d::Identity());
+  EXPECT_FALSE(c.accepted) << c.reason;
+  EXPECT_EQ(copy.counters().loops_accepted, accepted);
+  // The map is untouched by a rejected candidate.
+  EXPECT_TRUE(copy.map().keyframes[b].pose.isApprox(map.keyframes[b].pose, 1e-12));
+}
+
+TEST_F(SimulatedLoop, EveryOutputIsWrittenAndLoadsBack) {
+  const fs::path out = *dir_ / "export";
+  fs::create_directories(out);
+  const ExportReport report = exportAll(slam_->map(), out.string());
+  for (const std::string& w : report.warnings) ADD_FAILURE() << w;
+  for (const char* name :
+       {"trajectory.tum", "trajectory.kitti", "keyframes.graph", "map.simplemap", "heightmap.bin",
+        "heightmap.png", "map.ply", "map.3Dscene", "map_render.png"}) {
+    EXPECT_TRUE(fs::exists(out / name)) << name;
+  }
+  mrpt::graphs::CNetworkOfPoses3DInf graph;
+  graph.loadFromTextFile((out / "keyframes.graph").string());
+  EXPECT_EQ(graph.nodeCount(), slam_->map().keyframes.size());
+  EXPECT_EQ(graph.edgeCount(), slam_->map().edges.size());
+
+  mrpt::maps::CSimpleMap simple_map;
+  ASSERT_TRUE(simple_map.loadFromFile((out / "map.simplemap").string()));
+  EXPECT_EQ(simple_map.size(), slam_->map().keyframes.size());
+
+  mrpt::maps::CHeightGridMap2D height_map;
+  mrpt::io::CFileGZInputStream in((out / "heightmap.bin").string());
+  auto archive = mrpt::serialization::archiveFrom(in);
+  archive >> height_map;
+  EXPECT_GT(height_map.getSizeX() * height_map.getSizeY(), 1000u);
+
+  const metrics::Trajectory t = metrics::readTrajectory((out / "trajectory.tum").string());
+  ASSERT_EQ(t.size(), 280u);
+  EXPECT_TRUE(t.poses.front().isApprox(Eigen::Isometry3d::Identity(), 1e-9));
+}
+
+/// Runs the dlo-slam binary; returns its exit status and fills report.json's text.
+int runDloSlam(const fs::path& input_dir, const fs::path& out, const std::string& extra,
+               std::string& report) {
+  const std::string cmd = std::string(DLO_SLAM_BINARY) + " --input " +
+                          (input_dir / "sequence.rawlog").string() + " --out " + out.string() +
+                          " --gt " + (input_dir / "groundtruth.tum").string() + " --quiet " +
+                          extra + " > " + (out.string() + ".stdout") + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  std::ifstream f(out / "report.json");
+  std::stringstream s;
+  s << f.rdbuf();
+  report = s.str();
+  return status;
+}
+
+double reportNumber(const std::string& report, const std::string& block, const std::string& key) {
+  const std::regex re("\"" + block + "\": \\{[^}]*\"" + key + "\": ([-0-9.e+]+)");
+  std::smatch m;
+  if (!std::regex_search(report, m, re)) return std::nan("");
+  return std::stod(m[1]);
+}
+
+TEST_F(SimulatedLoop, FrameToFrameModeRunsAndLoopClosureCutsItsError) {
+  std::string report;
+  const fs::path out = *dir_ / "frame_to_frame";
+  ASSERT_EQ(runDloSlam(*dir_, out, "--set odometry.reference=0", report), 0);
+  const double before = reportNumber(report, "before_loop_closure", "ate_rmse_m");
+  const double after = reportNumber(report, "after_loop_closure", "ate_rmse_m");
+  ASSERT_TRUE(std::isfinite(before) && std::isfinite(after)) << report;
+  // The paper's frame-to-frame odometry drifts more; closing the loop must cut that.
+  EXPECT_LT(after, 0.8 * before);
+  EXPECT_NE(report.find("\"ms_per_frame\": {\"median\": "), std::string::npos);
+  EXPECT_NE(report.find("\"peak_memory_mb\": "), std::string::npos);
+  EXPECT_NE(report.find("\\nreference = 0\\n"), std::string::npos) << "config in report";
+}
+
+TEST_F(SimulatedLoop, LocalMapModeRunsFromTheCommandLineWithEveryReportField) {
+  std::string report;
+  const fs::path out = *dir_ / "local_map";
+  ASSERT_EQ(runDloSlam(*dir_, out, "--max-frames 60", report), 0);
+  for (const char* key :
+       {"\"frames\": 60", "\"keyframes\": ", "\"stages_ms\": ", "\"loop_closures\": ",
+        "\"degenerate_frames\": ", "\"accuracy\": ", "\"drift_percent\": "}) {
+    EXPECT_NE(report.find(key), std::string::npos) << key;
+  }
+}
+
+}  // namespace
+}  // namespace dlo
