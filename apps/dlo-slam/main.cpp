@@ -189,12 +189,13 @@ int run(const Arguments& args) {
       throw dlo::InputError("cannot read ground truth '" + args.gt + "': " + e.what());
     }
   }
+  // The input is opened first, so that a wrong path leaves no empty output folder behind.
+  std::unique_ptr<dlo::ScanSource> source = openSource(args);
   std::error_code ec;
   std::filesystem::create_directories(args.out, ec);
   if (!std::filesystem::is_directory(args.out)) {
     throw dlo::InputError("cannot create output folder '" + args.out + "'.");
   }
-  std::unique_ptr<dlo::ScanSource> source = openSource(args);
 
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
