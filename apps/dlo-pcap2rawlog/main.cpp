@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "dlo/mrpt/app_main.h"
 #include "dlo/mrpt/input_error.h"
 #include "dlo/mrpt/pcap_conversion.h"
 #include "dlo/mrpt/progress_bar.h"
@@ -31,10 +32,7 @@ Exit status: 0 on success, 1 for a bad input, 2 for a command-line error; errors
 on stderr starting with "dlo-pcap2rawlog: ".
 )";
 
-/// A command-line mistake: reported with exit status 2.
-struct UsageError {
-  std::string message;
-};
+using dlo::UsageError;
 
 struct Arguments {
   std::string pcap;
@@ -106,27 +104,12 @@ int run(const Arguments& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
+  return dlo::runApp("dlo-pcap2rawlog", [&] {
     const Arguments args = parseArguments(argc, argv);
     if (args.help) {
       std::cout << kUsage;
       return 0;
     }
     return run(args);
-  } catch (const UsageError& e) {
-    std::cerr << "dlo-pcap2rawlog: " << e.message << "\n";
-    return 2;
-  } catch (const dlo::InputError& e) {
-    std::cerr << "dlo-pcap2rawlog: " << e.what() << "\n";
-    return 1;
-  } catch (const std::exception& e) {
-    // MRPT errors carry a multi-line trace; the first line is the sentence that matters.
-    std::string what = e.what();
-    what = what.substr(0, what.find('\n'));
-    std::cerr << "dlo-pcap2rawlog: unexpected error: " << what << "\n";
-    return 1;
-  } catch (...) {
-    std::cerr << "dlo-pcap2rawlog: unexpected error of unknown type.\n";
-    return 1;
-  }
+  });
 }

@@ -9,6 +9,7 @@
 
 #include "dlo/core/stage_times.h"
 #include "dlo/mrpt/CDirectHeightAligner.h"
+#include "dlo/mrpt/app_main.h"
 #include "dlo/mrpt/dlo_config.h"
 #include "dlo/mrpt/input_error.h"
 #include "dlo/mrpt/registration_report.h"
@@ -49,10 +50,7 @@ Exit status: 0 on success, 1 for a bad input file or parameter, 2 for a command-
 errors are one line on stderr starting with "dlo-register: ".
 )";
 
-/// A command-line mistake: reported with exit status 2.
-struct UsageError {
-  std::string message;
-};
+using dlo::UsageError;
 
 struct Arguments {
   std::string ref;
@@ -161,27 +159,12 @@ int run(const Arguments& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
+  return dlo::runApp("dlo-register", [&] {
     const Arguments args = parseArguments(argc, argv);
     if (args.help) {
       std::cout << kUsage;
       return 0;
     }
     return run(args);
-  } catch (const UsageError& e) {
-    std::cerr << "dlo-register: " << e.message << "\n";
-    return 2;
-  } catch (const dlo::InputError& e) {
-    std::cerr << "dlo-register: " << e.what() << "\n";
-    return 1;
-  } catch (const std::exception& e) {
-    // MRPT errors carry a multi-line trace; the first line is the sentence that matters.
-    std::string what = e.what();
-    what = what.substr(0, what.find('\n'));
-    std::cerr << "dlo-register: unexpected error: " << what << "\n";
-    return 1;
-  } catch (...) {
-    std::cerr << "dlo-register: unexpected error of unknown type.\n";
-    return 1;
-  }
+  });
 }

@@ -13,6 +13,7 @@
 #include "dlo/export/atomic_file.h"
 #include "dlo/export/export_all.h"
 #include "dlo/metrics/trajectory_io.h"
+#include "dlo/mrpt/app_main.h"
 #include "dlo/mrpt/input_error.h"
 #include "dlo/mrpt/progress_bar.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
@@ -71,9 +72,7 @@ void onSignal(int) {
   g_stop = true;
 }
 
-struct UsageError {
-  std::string message;
-};
+using dlo::UsageError;
 
 struct Arguments {
   std::string input, out, config, gt, model, sensor_label;
@@ -253,23 +252,12 @@ int run(const Arguments& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
+  return dlo::runApp("dlo-slam", [&] {
     const Arguments args = parseArguments(argc, argv);
     if (args.help) {
       std::cout << kUsage;
       return 0;
     }
     return run(args);
-  } catch (const UsageError& e) {
-    std::cerr << "dlo-slam: " << e.message << "\n";
-    return 2;
-  } catch (const dlo::InputError& e) {
-    std::cerr << "dlo-slam: " << e.what() << "\n";
-    return 1;
-  } catch (const std::exception& e) {
-    std::string what = e.what();
-    what = what.substr(0, what.find('\n'));  // MRPT exceptions carry a stack trace
-    std::cerr << "dlo-slam: " << what << "\n";
-    return 1;
-  }
+  });
 }

@@ -51,7 +51,10 @@ struct CliRun {
 };
 
 CliRun dloSlam(const std::string& args) {
-  const fs::path err = fs::temp_directory_path() / "dlo_slam_cli_test.err";
+  // One file per test: ctest runs tests in parallel.
+  const fs::path err = fs::temp_directory_path() /
+                       (std::string("dlo_slam_cli_") +
+                        ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".err");
   const std::string cmd =
       std::string(DLO_SLAM_BINARY) + " " + args + " > /dev/null 2> " + err.string();
   const int raw = std::system(cmd.c_str());

@@ -1,17 +1,8 @@
 #include "dlo/core/dlo_params.h"
 
-#include <sstream>
+#include "dlo/core/range_message.h"
 
 namespace dlo {
-
-namespace {
-template <typename T>
-std::string outOfRange(const char* key, T value, const char* expected) {
-  std::ostringstream s;
-  s << "parameter " << key << " = " << value << " is out of range: expected " << expected << ".";
-  return s.str();
-}
-}  // namespace
 
 std::string DloParams::validate() const {
   if (grid.cols < 8 || grid.cols > 20000) return outOfRange("grid.cols", grid.cols, "8..20000");

@@ -14,14 +14,13 @@ HeightGrid HeightGrid::fromPoints(const PointCloud& points, const GridGeometry& 
   return g;
 }
 
-void HeightGrid::rasterise(const PointCloud& points, const GridGeometry& geometry, int min_points,
-                           double min_z, double max_z) {
-  HeightGrid& g = *this;
-  g.geometry_ = geometry;
-  g.min_points_ = min_points;
-  const int n = geometry.cellCount();
-  g.count_.assign(n, 0u);
-  g.sum_z_.assign(n, 0.0f);
+namespace {
+
+/// Bins points into `count` and `sum` in one pass. `get(item, p, n)` yields a point in the grid
+/// frame and how many raw points it stands for; written so that NaN fails every comparison.
+template <typename Range, typename Get>
+void accumulate(const Range& items, Get get, const GridGeometry& geometry, double min_z,
+                double max_z, std::uint32_t* count, float* sum) {
   const float inv_res = static_cast<float>(1.0 / geometry.resolution);
   const float x0 = static_cast<float>(geometry.x_min);
   const float y0 = static_cast<float>(geometry.y_min);
@@ -29,20 +28,33 @@ void HeightGrid::rasterise(const PointCloud& points, const GridGeometry& geometr
   const float rows = static_cast<float>(geometry.rows);
   const float zlo = static_cast<float>(min_z);
   const float zhi = static_cast<float>(max_z);
-  std::uint32_t* count = g.count_.data();
-  float* sum = g.sum_z_.data();
-  for (const Eigen::Vector3f& p : points) {
+  Eigen::Vector3f p;
+  std::uint32_t n = 1;
+  for (const auto& item : items) {
+    get(item, p, n);
     const float u = (p.x() - x0) * inv_res;
     const float v = (p.y() - y0) * inv_res;
-    // Written so that NaN fails every comparison and is skipped.
     if (!(u >= 0.0f && u < cols && v >= 0.0f && v < rows && p.z() >= zlo && p.z() <= zhi)) {
       continue;
     }
     const int idx = static_cast<int>(v) * geometry.cols + static_cast<int>(u);
-    ++count[idx];
-    sum[idx] += p.z();
+    count[idx] += n;
+    sum[idx] += static_cast<float>(n) * p.z();
   }
-  g.finalise();
+}
+
+}  // namespace
+
+void HeightGrid::rasterise(const PointCloud& points, const GridGeometry& geometry, int min_points,
+                           double min_z, double max_z) {
+  geometry_ = geometry;
+  min_points_ = min_points;
+  count_.assign(geometry.cellCount(), 0u);
+  sum_z_.assign(geometry.cellCount(), 0.0f);
+  accumulate(
+      points, [](const Eigen::Vector3f& q, Eigen::Vector3f& p, std::uint32_t&) { p = q; }, geometry,
+      min_z, max_z, count_.data(), sum_z_.data());
+  finalise();
 }
 
 void HeightGrid::rasterise(const WeightedCloud& points, const Eigen::Isometry3d& pose,
@@ -50,28 +62,16 @@ void HeightGrid::rasterise(const WeightedCloud& points, const Eigen::Isometry3d&
                            double max_z) {
   geometry_ = geometry;
   min_points_ = min_points;
-  const int n = geometry.cellCount();
-  count_.assign(n, 0u);
-  sum_z_.assign(n, 0.0f);
+  count_.assign(geometry.cellCount(), 0u);
+  sum_z_.assign(geometry.cellCount(), 0.0f);
   const Eigen::Isometry3f T = pose.cast<float>();
-  const float inv_res = static_cast<float>(1.0 / geometry.resolution);
-  const float x0 = static_cast<float>(geometry.x_min);
-  const float y0 = static_cast<float>(geometry.y_min);
-  const float cols = static_cast<float>(geometry.cols);
-  const float rows = static_cast<float>(geometry.rows);
-  const float zlo = static_cast<float>(min_z);
-  const float zhi = static_cast<float>(max_z);
-  for (const WeightedPoint& w : points) {
-    const Eigen::Vector3f p = T * w.p;
-    const float u = (p.x() - x0) * inv_res;
-    const float v = (p.y() - y0) * inv_res;
-    if (!(u >= 0.0f && u < cols && v >= 0.0f && v < rows && p.z() >= zlo && p.z() <= zhi)) {
-      continue;
-    }
-    const int idx = static_cast<int>(v) * geometry.cols + static_cast<int>(u);
-    count_[idx] += w.n;
-    sum_z_[idx] += static_cast<float>(w.n) * p.z();
-  }
+  accumulate(
+      points,
+      [&T](const WeightedPoint& w, Eigen::Vector3f& p, std::uint32_t& n) {
+        p = T * w.p;
+        n = w.n;
+      },
+      geometry, min_z, max_z, count_.data(), sum_z_.data());
   finalise();
 }
 

@@ -1,17 +1,8 @@
 #include "dlo/slam/slam_params.h"
 
-#include <sstream>
+#include "dlo/core/range_message.h"
 
 namespace dlo {
-
-namespace {
-template <typename T>
-std::string outOfRange(const char* key, T value, const char* expected) {
-  std::ostringstream s;
-  s << "parameter " << key << " = " << value << " is out of range: expected " << expected << ".";
-  return s.str();
-}
-}  // namespace
 
 std::string SlamParams::validate() const {
   if (std::string e = registration.validate(); !e.empty()) return e;
