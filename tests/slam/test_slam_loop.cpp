@@ -165,5 +165,25 @@ TEST_F(SimulatedLoop, LocalMapModeRunsFromTheCommandLineWithEveryReportField) {
   }
 }
 
+TEST_F(SimulatedLoop, AnInterruptedRunWritesLoadableOutputsAndExitsNonZero) {
+  const fs::path out = *dir_ / "interrupted";
+  // SIGINT after 1.5 s, well before the 280 scans are done (about 5 s).
+  const std::string cmd = "timeout --preserve-status -s INT 1.5 " + std::string(DLO_SLAM_BINARY) +
+                          " --input " + rawlog(".rawlog") + " --out " + out.string() +
+                          " --quiet > /dev/null 2>&1";
+  const int raw = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(raw));
+  EXPECT_EQ(WEXITSTATUS(raw), 3);
+  std::ifstream f(out / "report.json");
+  std::stringstream report;
+  report << f.rdbuf();
+  EXPECT_NE(report.str().find("\"interrupted\": true"), std::string::npos) << report.str();
+  const metrics::Trajectory t = metrics::readTrajectory((out / "trajectory.tum").string());
+  EXPECT_GT(t.size(), 0u);
+  EXPECT_LT(t.size(), 280u);
+  mrpt::maps::CSimpleMap simple_map;
+  EXPECT_TRUE(simple_map.loadFromFile((out / "map.simplemap").string()));
+}
+
 }  // namespace
 }  // namespace dlo
