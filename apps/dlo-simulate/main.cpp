@@ -24,7 +24,8 @@ constexpr const char* kUsage =
 
 Simulates a LiDAR on a car driving laps around a 60 x 40 m block of a procedural town on
 rolling hills (roads with crown and kerbs, buildings, trees, poles, parked and moving cars),
-and writes:
+turning each corner on a 10 m radius entered and left along 8 m clothoids (the yaw rate ramps
+up and down over about a second, as when steering), and writes:
   DIR/sequence.rawlog   one mrpt::obs::CObservationVelodyneScan per sweep (label "LIDAR"):
                         point_cloud holds the points in the sensor frame with per-point
                         timestamps (motion distortion, range noise and dropouts included),
@@ -158,7 +159,8 @@ int run(const Arguments& a) {
 
   const auto world = dlo::sim::ProceduralWorld::generate(a.seed);
   const dlo::sim::WorldParams layout;
-  const auto route = dlo::sim::Route::roundedRectangle(layout.loopMin, layout.loopMax, 10.0);
+  const auto route = dlo::sim::Route::roundedRectangle(layout.loopMin, layout.loopMax,
+                                                       /*radius=*/10.0, /*transitionLength=*/8.0);
   const dlo::sim::VehicleTrajectory trajectory(route, world.terrain());
   dlo::sim::SweepSimulatorParams params;
   params.model = dlo::sim::makeLidarModel(a.sensor);

@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <vector>
 
 #include "dlo/sim/procedural_world.h"
 #include "dlo/sim/route.h"
@@ -49,7 +51,7 @@ TEST(VehicleTrajectory, PosesAreContinuousWithCarLikeSpeedAndYawRate) {
   }
   EXPECT_GT(minSpeed, 4.5);
   EXPECT_LT(maxSpeed, 10.5);
-  EXPECT_LT(maxYawRate, 0.7);  // 5.5 m/s on a 10 m radius.
+  EXPECT_LT(maxYawRate, 0.7);  // 5.9 m/s on a 10 m radius.
   EXPECT_LT(maxAccel, 2.5);    // No jumps in speed (the profile allows 2 m/s^2).
 }
 
@@ -95,4 +97,139 @@ TEST(VehicleTrajectory, VehicleStaysOnTheRoad) {
     EXPECT_EQ(s.world.terrain().surfaceAt(p.x(), p.y()), SurfaceClass::Road) << "t=" << t;
     EXPECT_LT(s.world.terrain().roadDistance(p.x(), p.y()), 5.0 - 1.0) << "t=" << t;
   }
+}
+
+namespace {
+
+/// Curvature along one lap from the public state (yaw rate / speed), at arc lengths s in
+/// [0, lapLength), sampled finely in time.
+struct CurvatureSample {
+  double s, curvature;
+  Eigen::Vector2d position;
+};
+
+std::vector<CurvatureSample> curvatureAlongLap(const Route& route) {
+  std::vector<CurvatureSample> out;
+  for (double t = 0; t < route.lapDuration(); t += 0.002) {
+    const RouteState st = route.stateAt(t);
+    out.push_back({st.distance, st.yawRate / st.speed, st.position});
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(Route, YawRateIsContinuousAndMatchesTheHeadingDerivative) {
+  const auto& s = scenario();
+  const double dt = 0.01;
+  double maxJump = 0, maxMismatch = 0, maxYawRate = 0;
+  RouteState prev = s.route.stateAt(0.0);
+  for (double t = dt; t < 1.2 * s.route.lapDuration(); t += dt) {
+    const RouteState cur = s.route.stateAt(t);
+    maxJump = std::max(maxJump, std::abs(cur.yawRate - prev.yawRate));
+    // yawRate = curvature * speed must be the derivative of the heading the poses carry.
+    const double dHeading = std::remainder(cur.heading - prev.heading, 2 * M_PI) / dt;
+    maxMismatch = std::max(maxMismatch, std::abs(dHeading - 0.5 * (cur.yawRate + prev.yawRate)));
+    maxYawRate = std::max(maxYawRate, cur.yawRate);
+    prev = cur;
+  }
+  EXPECT_GT(maxYawRate * 180 / M_PI, 30.0);  // The corners are really driven.
+  EXPECT_LT(maxJump * 180 / M_PI, 3.0);      // Steering over about a second, no step.
+  // Finite differences over 0.01 s and the table's linear interpolation across the curvature's
+  // kinks leave ~1e-3 rad/s; a heading out of step with the yaw rate would be far larger.
+  EXPECT_LT(maxMismatch, 3e-3);
+
+  // The test sees the step of circular corners (Lt = 0): ~34 deg/s within one sample.
+  const WorldParams layout;
+  const Route circular = Route::roundedRectangle(layout.loopMin, layout.loopMax, 10.0, 0.0);
+  double circularJump = 0;
+  prev = circular.stateAt(0.0);
+  for (double t = dt; t < circular.lapDuration(); t += dt) {
+    const RouteState cur = circular.stateAt(t);
+    circularJump = std::max(circularJump, std::abs(cur.yawRate - prev.yawRate));
+    prev = cur;
+  }
+  EXPECT_GT(circularJump * 180 / M_PI, 20.0);
+}
+
+TEST(Route, CurvatureRampsLinearlyOverTheTransitionLength) {
+  const double R = 10.0, Lt = 8.0;
+  const Route route = Route::roundedRectangle({0, 0}, {60, 40}, R, Lt);
+  const auto samples = curvatureAlongLap(route);
+  // Clothoid series for the corner's tangent length T = R + p + m (p: shift of the arc, m: half
+  // the spiral's length less a little): the corner starts T before the rectangle's vertex.
+  const double p = Lt * Lt / (24 * R) - std::pow(Lt, 4) / (2688 * std::pow(R, 3)) +
+                   std::pow(Lt, 6) / (506880 * std::pow(R, 5));
+  const double m =
+      Lt / 2 - std::pow(Lt, 3) / (240 * R * R) + std::pow(Lt, 5) / (34560 * std::pow(R, 4));
+  const double T = R + p + m;
+  EXPECT_NEAR(route.lapLength(), 200.0 - 8 * T + 4 * (Lt + 0.5 * M_PI * R), 1e-4);
+
+  // Straight-line fits of curvature against s over the first corner's ramps, away from their
+  // ends (the table interpolates across each kink within one 5 cm step).
+  const auto fit = [&](double from, double to, double& a, double& b, double& worst) {
+    double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (const auto& c : samples) {
+      if (c.s < from || c.s > to) continue;
+      n += 1, sx += c.s, sy += c.curvature, sxx += c.s * c.s, sxy += c.s * c.curvature;
+    }
+    b = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+    a = (sy - b * sx) / n;
+    worst = 0;
+    for (const auto& c : samples) {
+      if (c.s >= from && c.s <= to) worst = std::max(worst, std::abs(c.curvature - a - b * c.s));
+    }
+  };
+  const double sIn = 30.0 - T, sOut = sIn + Lt + 0.5 * M_PI * R;  // Analytic, for the windows.
+  double aIn, bIn, worstIn, aOut, bOut, worstOut;
+  fit(sIn + 0.2, sIn + Lt - 0.2, aIn, bIn, worstIn);
+  fit(sOut - Lt + 0.2, sOut - 0.2, aOut, bOut, worstOut);
+  EXPECT_NEAR(bIn, 1.0 / (R * Lt), 1e-3 / (R * Lt));
+  EXPECT_NEAR(bOut, -1.0 / (R * Lt), 1e-3 / (R * Lt));
+  EXPECT_LT(worstIn, 1e-5);
+  EXPECT_LT(worstOut, 1e-5);
+  // Where the lines reach 0 and 1 / R: the ramps are Lt long and where the geometry says.
+  const double in0 = -aIn / bIn, in1 = (1.0 / R - aIn) / bIn;
+  const double out1 = (1.0 / R - aOut) / bOut, out0 = -aOut / bOut;
+  EXPECT_NEAR(in0, sIn, 0.01);
+  EXPECT_NEAR(in1 - in0, Lt, 0.01);
+  EXPECT_NEAR(out1 - in1, 0.5 * M_PI * R - Lt, 0.01);
+  EXPECT_NEAR(out0 - out1, Lt, 0.01);
+  // Constant 1 / R in between, 0 before and after.
+  for (const auto& c : samples) {
+    if (c.s > in1 + 0.05 && c.s < out1 - 0.05) {
+      EXPECT_NEAR(c.curvature, 1.0 / R, 1e-9) << "s=" << c.s;
+    }
+    if (c.s < in0 - 0.05 || (c.s > out0 + 0.05 && c.s < sOut + 2 * (20.0 - T) - 0.05)) {
+      EXPECT_EQ(c.curvature, 0.0) << "s=" << c.s;
+    }
+  }
+  // Where the curvature is 0, the route is on a side of the rectangle: the straights were
+  // shortened by the clothoid corner's displacement, not the arc's R.
+  for (const auto& c : samples) {
+    if (c.curvature != 0.0) continue;
+    const Eigen::Vector2d q = c.position;
+    const double offSide = std::min(std::min(std::abs(q.x()), std::abs(q.x() - 60.0)),
+                                    std::min(std::abs(q.y()), std::abs(q.y() - 40.0)));
+    EXPECT_LT(offSide, 1e-6) << "s=" << c.s;
+  }
+}
+TEST(Route, TransitionLengthIsClampedAndZeroGivesCircularCorners) {
+  const double R = 10.0;
+  const Route circular = Route::roundedRectangle({0, 0}, {60, 40}, R, 0.0);
+  EXPECT_NEAR(circular.lapLength(), 200.0 - 8 * R + 2 * M_PI * R, 1e-9);
+  const Route longest = Route::roundedRectangle({0, 0}, {60, 40}, R, 0.5 * M_PI * R);
+  const Route clamped = Route::roundedRectangle({0, 0}, {60, 40}, R, 100.0);
+  EXPECT_DOUBLE_EQ(clamped.lapLength(), longest.lapLength());
+  EXPECT_DOUBLE_EQ(clamped.lapDuration(), longest.lapDuration());
+  // Both close the lap.
+  for (const Route* r : {&circular, &clamped}) {
+    const RouteState a = r->stateAt(0.0), b = r->stateAt(r->lapDuration());
+    EXPECT_LT((a.position - b.position).norm(), 1e-9);
+    EXPECT_NEAR(std::remainder(a.heading - b.heading, 2 * M_PI), 0.0, 1e-9);
+  }
+  EXPECT_THROW(Route::roundedRectangle({0, 0}, {60, 40}, 0.0), std::invalid_argument);
+  // Corners of 10 m radius and 8 m transitions need about 14.2 m of each half side.
+  EXPECT_THROW(Route::roundedRectangle({0, 0}, {60, 25}, R, 8.0), std::invalid_argument);
+  EXPECT_NO_THROW(Route::roundedRectangle({0, 0}, {60, 29}, R, 8.0));
 }

@@ -23,15 +23,30 @@ struct SpeedLimits {
 };
 
 /**
- * A closed loop of straight lines and circular arcs, driven lap after lap counter-clockwise.
+ * A closed loop of straight lines and corners, driven lap after lap counter-clockwise.
+ * Each corner is clothoid-arc-clothoid: the curvature ramps linearly from 0 to 1 / radius, stays
+ * there, and ramps back, so the yaw rate builds up over about a second as a steered car's does
+ * rather than stepping at the corner (a step no real vehicle makes, and one that would break
+ * constant-velocity deskewing at every turn in a way real data does not).
  * The speed comes from a profile that slows down for turns within acceleration limits, so that
  * speed is continuous and the vehicle is back at the start after every lap.
  */
 class Route {
  public:
-  /// Around the rectangle [lo, hi] with corners rounded to `radius`, starting at the middle of
-  /// the lower (south) side heading east (+x).
+  /**
+   * Around the rectangle [lo, hi], starting at the middle of the lower (south) side heading east
+   * (+x). The route passes through the middle of every side and turns each corner by 90 deg.
+   *
+   * @param radius            Radius of the constant-curvature part of each corner [m], > 0.
+   * @param transitionLength  Length of each clothoid (Euler spiral) over which the curvature
+   *                          ramps between 0 and 1 / radius [m]. Clamped to [0, radius * pi / 2]
+   *                          (at the upper bound the arc vanishes; 0 gives circular corners).
+   * @param limits            Speed profile limits.
+   * @throws std::invalid_argument if radius is not positive and finite, transitionLength is NaN or
+   * a corner does not fit in half a side.
+   */
   static Route roundedRectangle(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, double radius,
+                                double transitionLength = 8.0,
                                 const SpeedLimits& limits = SpeedLimits());
 
   /// State at time t >= 0 [s].
@@ -42,16 +57,18 @@ class Route {
   double lapDuration() const { return times_.back(); }
 
  private:
-  struct Piece {
-    Eigen::Vector2d start;   ///< Lines: start point; arcs: centre.
-    double heading0 = 0.0;   ///< Heading at the piece's start.
-    double curvature = 0.0;  ///< 0 for lines, 1 / radius for (left) arcs.
-    double s0 = 0.0, length = 0.0;
+  /// Geometry at one arc length; the heading is unwrapped (0 .. 2 pi over a lap).
+  struct Sample {
+    Eigen::Vector2d position = Eigen::Vector2d::Zero();
+    double heading = 0.0;
+    double curvature = 0.0;
   };
   void geometryAt(double s, Eigen::Vector2d& position, double& heading, double& curvature) const;
   void buildSpeedProfile(const SpeedLimits& limits);
 
-  std::vector<Piece> pieces_;
+  /// Geometry at s = k * step_, k = 0..n (n * step_ = length_; the last sample closes the lap).
+  std::vector<Sample> table_;
+  double step_ = 0.05;
   double length_ = 0.0;
   double ds_ = 0.25;
   std::vector<double> speeds_, times_;  ///< At s = k * ds_, k = 0..n (n * ds_ = length).
