@@ -25,7 +25,7 @@ struct SolverParams {
   double min_step_translation = 1e-4;   ///< convergence: translation update below this (m)
   double min_step_rotation = 1e-5;      ///< convergence: rotation update below this (rad)
   int min_cells = 30;                   ///< fewer usable cells than this: degenerate
-  double degeneracy_eigen_ratio = 0.1;  ///< eig_min/eig_max of the scaled Hessian below: degenerate
+  double degeneracy_eigen_ratio = 0.02;  ///< eig_min/eig_max of the scaled Hessian below: degenerate
   double rotation_scale = 10.0;         ///< metres; scales rotations against translations
                                         ///< when judging conditioning
 };
