@@ -10,9 +10,12 @@ bash scripts/build.sh
 OUT="${DLO_DEMO_OUT:-out/demo}"
 FRAMES="${DLO_DEMO_FRAMES:-300}"
 mkdir -p "$OUT"
-if [ ! -s "$OUT/sim/groundtruth.tum" ] || [ "$(grep -vc '^#' "$OUT/sim/groundtruth.tum")" != "$FRAMES" ]; then
+SIMULATE=build/apps/dlo-simulate/dlo-simulate
+# Simulate unless the same sequence is already there (same length, from this simulator build).
+if [ ! -s "$OUT/sim/groundtruth.tum" ] || [ "$SIMULATE" -nt "$OUT/sim/groundtruth.tum" ] ||
+  [ "$(grep -vc '^#' "$OUT/sim/groundtruth.tum")" != "$FRAMES" ]; then
   echo "run_demo: simulating $FRAMES HDL-64 sweeps into $OUT/sim"
-  build/apps/dlo-simulate/dlo-simulate --out "$OUT/sim" --frames "$FRAMES" --sensor HDL64 --seed 1
+  "$SIMULATE" --out "$OUT/sim" --frames "$FRAMES" --sensor HDL64 --seed 1
 fi
 echo "run_demo: dlo-slam on $OUT/sim/sequence.rawlog"
 build/apps/dlo-slam/dlo-slam --input "$OUT/sim/sequence.rawlog" --out "$OUT/slam" \
