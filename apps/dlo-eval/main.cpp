@@ -1,0 +1,273 @@
+// dlo-eval: compares estimated trajectories with ground truth (ATE, RPE, KITTI drift) and draws
+// the evaluation figures. Metrics and plotting live in libs/eval; this file parses the command
+// line, decides how each estimate is paired with the ground truth, and writes the outputs.
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "dlo/eval/estimate_evaluation.h"
+#include "dlo/eval/evaluation_figures.h"
+#include "dlo/eval/evaluation_report.h"
+#include "dlo/export/atomic_file.h"
+#include "dlo/export/png_file.h"
+#include "dlo/metrics/trajectory_io.h"
+#include "dlo/mrpt/app_main.h"
+#include "dlo/mrpt/input_error.h"
+
+namespace {
+
+constexpr const char* kUsage =
+    R"(Usage: dlo-eval --gt GT --est EST [--est EST2 ...] [--label NAME ...] --out DIR
+                [--alignment umeyama|first] [--max-dt S] [--gt-times FILE] [--help]
+
+Compares each estimated trajectory EST with the ground truth GT and writes, into DIR (created
+if needed), each file atomically:
+  metrics.json         per estimate: matched poses, ATE (rmse, mean, median, max), RPE over 1
+                       and 10 frames (translation m, rotation deg), KITTI drift (% and
+                       deg/100 m over segments of 100..800 m) with the lengths used
+  trajectories.png     top view (x-y) of the ground truth and every aligned estimate
+  position_error.png   position error after alignment per ground-truth frame
+  drift.png            KITTI translational drift per segment length
+and prints a table of the metrics.
+
+Files are TUM ("t x y z qx qy qz qw") or KITTI (12 numbers: 3x4 [R|t]), detected per file.
+Pairing of estimate and ground-truth poses:
+  TUM estimate     by timestamp: the nearest ground-truth pose within --max-dt seconds. A KITTI
+                   ground truth then needs --gt-times (its sequence's times.txt).
+  KITTI estimate   by index: estimate pose i with ground-truth pose i (KITTI files carry no
+                   timestamps); it may have fewer poses than the ground truth, not more.
+
+Options:
+  --gt FILE            ground-truth trajectory.
+  --est FILE           estimated trajectory; repeat to compare several.
+  --label NAME         name of the matching --est in tables and legends (default: the file
+                       name without extension); give none or one per --est.
+  --out DIR            output folder.
+  --alignment A        umeyama (default): SE(3) (rotation + translation, no scale) minimising
+                       the position error; first: the estimate's first pose is put on the
+                       ground truth's. Used for the ATE and the figures; RPE and KITTI drift
+                       are independent of it.
+  --max-dt S           largest timestamp difference of a pair, seconds (default 0.02).
+  --gt-times FILE      one timestamp per line for a KITTI ground truth.
+  --help               print this text.
+
+KITTI drift: segments start every 10 frames (as in the devkit); lengths longer than the ground
+truth path are skipped; a path shorter than 100 m uses 10%, 20%, ..., 80% of its length.
+Exit status: 0 on success, 1 for a bad input file (missing, malformed, fewer than 3 matched
+poses), 2 for a command-line error; errors are one line on stderr starting with "dlo-eval: ".
+)";
+
+using dlo::InputError;
+using dlo::UsageError;
+namespace metrics = dlo::metrics;
+
+struct Arguments {
+  std::string gt, gt_times, out;
+  std::vector<std::string> estimates, labels;
+  metrics::Alignment alignment = metrics::Alignment::kUmeyama;
+  double max_dt = 0.02;
+  bool help = false;
+};
+
+double toNumber(const std::string& option, const std::string& text) {
+  try {
+    size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size()) return v;
+  } catch (const std::exception&) {
+  }
+  throw UsageError{option + " expects a number, got '" + text + "'."};
+}
+
+Arguments parseArguments(int argc, char** argv) {
+  Arguments a;
+  const std::vector<std::string> with_value = {"--gt",        "--est",    "--label",   "--out",
+                                               "--alignment", "--max-dt", "--gt-times"};
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i], value;
+    if (arg == "--help" || arg == "-h") {
+      a.help = true;
+      return a;
+    }
+    const auto eq = arg.find('=');
+    if (arg.rfind("--", 0) == 0 && eq != std::string::npos) {
+      value = arg.substr(eq + 1);
+      arg = arg.substr(0, eq);
+    } else if (std::find(with_value.begin(), with_value.end(), arg) != with_value.end()) {
+      if (i + 1 >= argc) throw UsageError{arg + " needs a value."};
+      value = argv[++i];
+    } else {
+      throw UsageError{"unexpected argument '" + arg + "' (see --help)."};
+    }
+    if (arg == "--gt") {
+      a.gt = value;
+    } else if (arg == "--est") {
+      a.estimates.push_back(value);
+    } else if (arg == "--label") {
+      a.labels.push_back(value);
+    } else if (arg == "--out") {
+      a.out = value;
+    } else if (arg == "--gt-times") {
+      a.gt_times = value;
+    } else if (arg == "--max-dt") {
+      a.max_dt = toNumber(arg, value);
+    } else if (arg == "--alignment") {
+      if (value == "umeyama") {
+        a.alignment = metrics::Alignment::kUmeyama;
+      } else if (value == "first") {
+        a.alignment = metrics::Alignment::kFirstPose;
+      } else {
+        throw UsageError{"--alignment expects umeyama or first, got '" + value + "'."};
+      }
+    } else {
+      throw UsageError{"unknown option '" + arg + "' (see --help)."};
+    }
+  }
+  if (a.gt.empty()) throw UsageError{"--gt is required (see --help)."};
+  if (a.estimates.empty()) throw UsageError{"at least one --est is required (see --help)."};
+  if (a.out.empty()) throw UsageError{"--out is required (see --help)."};
+  if (!a.labels.empty() && a.labels.size() != a.estimates.size()) {
+    throw UsageError{std::to_string(a.labels.size()) + " --label given for " +
+                     std::to_string(a.estimates.size()) +
+                     " --est: give one label per estimate, in the same order, or none."};
+  }
+  if (!(a.max_dt > 0.0)) throw UsageError{"--max-dt must be a positive number of seconds."};
+  return a;
+}
+
+/// File names without extension; when two coincide (run1/trajectory.tum, run2/trajectory.tum)
+/// the paths as given, which tell them apart.
+std::vector<std::string> defaultLabels(const std::vector<std::string>& files) {
+  std::vector<std::string> labels;
+  std::map<std::string, int> uses;
+  for (const std::string& f : files) {
+    labels.push_back(std::filesystem::path(f).stem().string());
+    ++uses[labels.back()];
+  }
+  for (size_t i = 0; i < files.size(); ++i) {
+    if (uses[labels[i]] > 1) labels[i] = files[i];
+  }
+  return labels;
+}
+
+/// The readers name the file and line in their std::runtime_error; a user caused them.
+metrics::Trajectory readTrajectoryFile(const std::string& role, const std::string& path,
+                                       const std::vector<double>& kitti_times = {}) {
+  try {
+    return metrics::readTrajectory(path, kitti_times);
+  } catch (const std::exception& e) {
+    throw InputError("cannot read " + role + ": " + e.what());
+  }
+}
+
+metrics::TrajectoryFormat formatOf(const std::string& role, const std::string& path) {
+  try {
+    return metrics::detectTrajectoryFormat(path);
+  } catch (const std::exception& e) {
+    throw InputError("cannot read " + role + ": " + e.what());
+  }
+}
+
+void writeText(const std::string& path, const std::string& text) {
+  try {
+    dlo::writeBytesAtomically(path, std::vector<unsigned char>(text.begin(), text.end()));
+  } catch (const std::exception& e) {
+    throw InputError(e.what());
+  }
+}
+
+void writeFigure(const std::string& path, const cv::Mat& image) {
+  try {
+    dlo::writePng(image, path);
+  } catch (const std::exception& e) {
+    throw InputError(e.what());
+  }
+}
+
+int run(const Arguments& args) {
+  const bool gt_is_kitti = formatOf("ground truth", args.gt) == metrics::TrajectoryFormat::kKitti;
+  std::vector<double> gt_times;
+  if (!args.gt_times.empty()) {
+    if (!gt_is_kitti) {
+      throw UsageError{"--gt-times is for a KITTI ground truth, but '" + args.gt +
+                       "' is a TUM file with its own timestamps."};
+    }
+    try {
+      gt_times = metrics::readTimestamps(args.gt_times);
+    } catch (const std::exception& e) {
+      throw InputError("cannot read --gt-times: " + std::string(e.what()));
+    }
+  }
+  const metrics::Trajectory gt = readTrajectoryFile("ground truth", args.gt, gt_times);
+  const bool gt_has_times = !gt_is_kitti || !gt_times.empty();
+
+  dlo::eval::ComparisonSettings settings;
+  settings.ground_truth_file = args.gt;
+  settings.ground_truth_poses = gt.size();
+  settings.max_dt = args.max_dt;
+  settings.options.alignment = args.alignment;
+  const std::vector<std::string> labels =
+      args.labels.empty() ? defaultLabels(args.estimates) : args.labels;
+
+  std::vector<dlo::eval::LabelledEvaluation> evaluations;
+  for (size_t i = 0; i < args.estimates.size(); ++i) {
+    const std::string& file = args.estimates[i];
+    const bool est_is_kitti = formatOf("estimate", file) == metrics::TrajectoryFormat::kKitti;
+    if (!est_is_kitti && !gt_has_times) {
+      throw UsageError{"estimate '" + file + "' is stamped (TUM) but ground truth '" + args.gt +
+                       "' is a KITTI file without timestamps: give --gt-times FILE."};
+    }
+    const metrics::Trajectory estimate = readTrajectoryFile("estimate", file);
+    dlo::eval::LabelledEvaluation le;
+    le.label = labels[i];
+    le.file = file;
+    le.poses = estimate.size();
+    try {
+      const dlo::eval::MatchedPair pair = est_is_kitti
+                                              ? dlo::eval::matchByIndex(estimate, gt)
+                                              : dlo::eval::matchByTime(estimate, gt, args.max_dt);
+      le.evaluation = dlo::eval::evaluateEstimate(pair, settings.options);
+    } catch (const std::invalid_argument& e) {
+      throw InputError("estimate '" + file + "' against ground truth '" + args.gt +
+                       "': " + e.what() + ".");
+    }
+    if (le.evaluation.ate.alignment != args.alignment) {
+      std::cerr << "dlo-eval: warning: estimate '" << file
+                << "' lies on a line, so its ATE uses the first-pose alignment.\n";
+    }
+    evaluations.push_back(std::move(le));
+  }
+
+  // Created only now: a bad input leaves no empty output folder behind.
+  std::error_code ec;
+  std::filesystem::create_directories(args.out, ec);
+  if (!std::filesystem::is_directory(args.out)) {
+    throw InputError("cannot create output folder '" + args.out + "'.");
+  }
+  const std::filesystem::path out(args.out);
+  writeText((out / "metrics.json").string(), dlo::eval::metricsJson(settings, evaluations));
+  writeFigure((out / "trajectories.png").string(), dlo::eval::trajectoriesFigure(gt, evaluations));
+  writeFigure((out / "position_error.png").string(), dlo::eval::positionErrorFigure(evaluations));
+  writeFigure((out / "drift.png").string(), dlo::eval::driftFigure(evaluations));
+
+  std::cout << dlo::eval::metricsTable(settings, evaluations);
+  std::cout << "dlo-eval: metrics.json, trajectories.png, position_error.png, drift.png in '"
+            << args.out << "'.\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return dlo::runApp("dlo-eval", [&] {
+    const Arguments args = parseArguments(argc, argv);
+    if (args.help) {
+      std::cout << kUsage;
+      return 0;
+    }
+    return run(args);
+  });
+}
