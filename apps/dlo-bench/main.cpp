@@ -1,0 +1,307 @@
+// dlo-bench: DLO next to the classic registrators on the same scans, with the same initial
+// guess: timing, accuracy against ground truth and peak memory per method. The methods and
+// their evaluation live in libs/bench; this file parses the command line and writes the table.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "dlo/bench/bench_table.h"
+#include "dlo/bench/method_registry.h"
+#include "dlo/bench/method_run.h"
+#include "dlo/export/atomic_file.h"
+#include "dlo/export/png_file.h"
+#include "dlo/metrics/trajectory_io.h"
+#include "dlo/mrpt/app_main.h"
+#include "dlo/mrpt/input_error.h"
+#include "dlo/mrpt/rawlog_scan_source.h"
+#include "trajectory_overlay.h"
+
+namespace {
+
+using dlo::UsageError;
+namespace fs = std::filesystem;
+
+constexpr const char* kUsage =
+    R"(Usage: dlo-bench --input IN.rawlog --gt GT.tum --out DIR [--methods M1,M2,...]
+                 [--max-frames N] [--max-frames-slow N] [--min-range M] [--max-range M]
+                 [--quiet] [--help]
+
+Runs every method on the same scans of IN, each in its own forked process (so that its peak
+memory is its own), and writes into DIR (created if needed), each file atomically:
+  table.md, table.csv      per method: preprocessing, frames, ms/frame (median, p95) of the
+                           processing alone (points in the vehicle frame to pose; reading the
+                           rawlog is not timed), frames/s, ATE RMSE (SE(3) Umeyama), KITTI
+                           drift %, peak memory (MB)
+  <method>.tum             each method's trajectory, relative to its first scan
+  trajectories.png         top view of the ground truth and every method, aligned, with legend
+The table is also printed.
+
+Methods (default: all of them):
+  dlo-paper   the paper's frame-to-frame DLO (odometry.reference = 0, no loop closure)
+  dlo         the full pipeline: local-map odometry, keyframe graph, loop closure (defaults)
+  icp         MRPT CICP (3D, classic) frame to frame on deskewed, cropped, voxel-filtered scans
+  ndt, gicp   PCL's 3D-NDT and GICP, same preprocessing (only when built with PCL)
+Frame-to-frame registrators start from a constant-velocity guess: for scan k,
+pose_{k-1} * (pose_{k-2}^-1 pose_{k-1}); DLO's odometry predicts with constant velocity too.
+
+Options:
+  --methods LIST       comma-separated method names.
+  --max-frames N       at most N scans per method.
+  --max-frames-slow N  at most N scans for the slow methods (icp, ndt, gicp); default 100.
+  --min-range M        drop points closer than M metres to the sensor (default 2.0).
+  --max-range M        drop points farther than M metres (default 120).
+  --quiet              no progress.
+  --help               print this text.
+
+Exit status: 0 on success, 1 for a bad input file or a method that failed (the table is still
+written), 2 for a command-line error; errors are one line on stderr starting with "dlo-bench: ".
+)";
+
+struct Arguments {
+  std::string input, gt, out;
+  std::vector<const dlo::bench::MethodSpec*> methods;
+  long max_frames = -1;
+  long max_frames_slow = 100;
+  double min_range = 2.0;
+  double max_range = 120.0;
+  bool quiet = false, help = false;
+};
+
+double toNumber(const std::string& option, const std::string& text) {
+  try {
+    size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size()) return v;
+  } catch (const std::exception&) {
+  }
+  throw UsageError{option + " expects a number, got '" + text + "'."};
+}
+
+long toCount(const std::string& option, const std::string& text) {
+  const double v = toNumber(option, text);
+  if (!(v >= 1.0) || v != std::floor(v)) {
+    throw UsageError{option + " expects a whole number of frames >= 1, got '" + text + "'."};
+  }
+  return static_cast<long>(v);
+}
+
+std::vector<const dlo::bench::MethodSpec*> parseMethods(const std::string& list) {
+  std::vector<const dlo::bench::MethodSpec*> methods;
+  std::istringstream in(list);
+  std::string name;
+  while (std::getline(in, name, ',')) {
+    if (name.empty()) continue;
+    const dlo::bench::MethodSpec* m = dlo::bench::findMethod(name);
+    if (!m) {
+      throw UsageError{"unknown method '" + name + "' in --methods (this build has " +
+                       dlo::bench::availableMethodNames() + ")."};
+    }
+    if (std::find(methods.begin(), methods.end(), m) == methods.end()) methods.push_back(m);
+  }
+  if (methods.empty()) throw UsageError{"--methods names no method."};
+  return methods;
+}
+
+Arguments parseArguments(int argc, char** argv) {
+  Arguments a;
+  const std::vector<std::string> with_value = {"--input",     "--gt",         "--out",
+                                               "--methods",   "--max-frames", "--max-frames-slow",
+                                               "--min-range", "--max-range"};
+  std::string methods;
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i], value;
+    if (arg == "--help" || arg == "-h") {
+      a.help = true;
+      return a;
+    }
+    if (arg == "--quiet") {
+      a.quiet = true;
+      continue;
+    }
+    const auto eq = arg.find('=');
+    if (arg.rfind("--", 0) == 0 && eq != std::string::npos) {
+      value = arg.substr(eq + 1);
+      arg = arg.substr(0, eq);
+    } else if (std::find(with_value.begin(), with_value.end(), arg) != with_value.end()) {
+      if (i + 1 >= argc) throw UsageError{arg + " needs a value."};
+      value = argv[++i];
+    } else {
+      throw UsageError{"unexpected argument '" + arg + "' (see --help)."};
+    }
+    if (arg == "--input")
+      a.input = value;
+    else if (arg == "--gt")
+      a.gt = value;
+    else if (arg == "--out")
+      a.out = value;
+    else if (arg == "--methods")
+      methods = value;
+    else if (arg == "--max-frames")
+      a.max_frames = toCount(arg, value);
+    else if (arg == "--max-frames-slow")
+      a.max_frames_slow = toCount(arg, value);
+    else if (arg == "--min-range")
+      a.min_range = toNumber(arg, value);
+    else if (arg == "--max-range")
+      a.max_range = toNumber(arg, value);
+    else
+      throw UsageError{"unknown option '" + arg + "' (see --help)."};
+  }
+  if (a.input.empty()) throw UsageError{"--input is required (see --help)."};
+  if (a.gt.empty()) throw UsageError{"--gt is required (see --help)."};
+  if (a.out.empty()) throw UsageError{"--out is required (see --help)."};
+  if (!(a.min_range >= 0.0 && a.max_range > a.min_range)) {
+    throw UsageError{"--min-range and --max-range must satisfy 0 <= min < max."};
+  }
+  for (const auto& m : dlo::bench::availableMethods()) {
+    if (methods.empty()) a.methods.push_back(&m);
+  }
+  if (!methods.empty()) a.methods = parseMethods(methods);
+  return a;
+}
+
+std::string commandLine(int argc, char** argv) {
+  std::string text = "dlo-bench";
+  for (int i = 1; i < argc; ++i) text += std::string(" ") + argv[i];
+  return text;
+}
+
+/// "2 x AMD EPYC" from /proc/cpuinfo, for the table's provenance line.
+std::string machine() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line, model = "unknown CPU";
+  int cpus = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("model name", 0) != 0) continue;
+    ++cpus;
+    model = line.substr(line.find(':') + 2);
+  }
+  return std::to_string(cpus) + " x " + model;
+}
+
+void writeText(const fs::path& path, const std::string& text) {
+  dlo::writeBytesAtomically(path.string(), std::vector<unsigned char>(text.begin(), text.end()));
+}
+
+std::string notes(const Arguments& args, const std::vector<dlo::bench::MethodRow>& rows,
+                  const std::vector<dlo::bench::MethodRun>& runs) {
+  double baseline = 0.0;
+  for (const auto& run : runs) baseline = std::max(baseline, run.baseline_memory_mb);
+  std::ostringstream o;
+  o << "\n* ms/frame: wall time of one method's processing of a scan (points in the vehicle "
+       "frame to pose, including its own deskewing, filtering and map upkeep); reading and "
+       "decoding the rawlog are not timed. frames/s = frames / total processing time. Methods "
+       "run one after another, single-threaded.\n";
+  o << "* ATE: RMSE of positions after SE(3) Umeyama alignment to the ground truth "
+       "(dlo::metrics), poses matched by timestamp within 5 ms. drift: KITTI translational drift "
+       "averaged over segments of";
+  for (const auto& r : rows) o << " " << r.method << ": " << r.drift_lengths << ";";
+  o << " segment lengths are fractions of the path when it is shorter than 100 m.\n";
+  o << "* peak memory: peak resident set (VmHWM) of a child process forked for the method alone "
+       "(high-water mark reset after the fork), which reads the rawlog itself; it includes the "
+       "program's baseline of about "
+    << static_cast<int>(std::lround(baseline)) << " MB (libraries, scan reader).\n";
+  o << "* Initial guess: the frame-to-frame registrators (icp, ndt, gicp) start scan k at "
+       "pose_{k-1} * (pose_{k-2}^-1 pose_{k-1}) and deskew with that constant velocity; "
+       "dlo-paper and dlo use LidarOdometry's own constant-velocity prediction (planar, over the "
+       "last two intervals) and deskewing.\n";
+  o << "* Slow methods are limited to the first " << args.max_frames_slow
+    << " scans (--max-frames-slow)";
+  if (args.max_frames > 0) o << ", all methods to " << args.max_frames << " (--max-frames)";
+  o << ".\n";
+  for (const auto& r : rows) {
+    if (!r.error.empty()) o << "* " << r.method << ": " << r.error << "\n";
+  }
+  return o.str();
+}
+
+int run(const Arguments& args, const std::string& command) {
+  dlo::metrics::Trajectory ground_truth;
+  try {
+    ground_truth = dlo::metrics::readTrajectory(args.gt);
+  } catch (const std::exception& e) {
+    throw dlo::InputError("cannot read ground truth '" + args.gt + "': " + e.what());
+  }
+  if (fs::is_directory(args.input)) {
+    throw dlo::InputError("input '" + args.input + "' is a folder, expected an MRPT rawlog.");
+  }
+  dlo::ScanSourceOptions options;
+  options.min_range = args.min_range;
+  options.max_range = args.max_range;
+  { dlo::RawlogScanSource check(args.input, options); }  // names the file if it is not a rawlog
+  std::error_code ec;
+  fs::create_directories(args.out, ec);
+  if (!fs::is_directory(args.out)) {
+    throw dlo::InputError("cannot create output folder '" + args.out + "'.");
+  }
+
+  std::vector<dlo::bench::MethodRun> runs;
+  std::vector<dlo::bench::MethodRow> rows;
+  std::vector<std::pair<std::string, dlo::metrics::Trajectory>> trajectories;
+  bool failed = false;
+  for (const dlo::bench::MethodSpec* spec : args.methods) {
+    long limit = args.max_frames;
+    if (spec->slow)
+      limit = limit < 0 ? args.max_frames_slow : std::min(limit, args.max_frames_slow);
+    if (!args.quiet) std::cerr << "dlo-bench: " << spec->name << "\n";
+    runs.push_back(dlo::bench::runMethodIsolated(*spec, args.input, options, limit, !args.quiet));
+    const dlo::bench::MethodRun& r = runs.back();
+    if (!r.input_warning.empty()) std::cerr << "dlo-bench: warning: " << r.input_warning << "\n";
+    if (!r.error.empty() || r.trajectory.empty()) {
+      failed = true;
+      std::cerr << "dlo-bench: " << spec->name
+                << " failed: " << (r.error.empty() ? "no scan processed." : r.error) << "\n";
+    }
+    rows.push_back(dlo::bench::evaluateRun(r, spec->preprocessing, ground_truth));
+    if (!r.trajectory.empty()) {
+      dlo::metrics::writeTumTrajectory((fs::path(args.out) / (spec->name + ".tum")).string(),
+                                       r.trajectory);
+      trajectories.emplace_back(spec->name, r.trajectory);
+    }
+  }
+
+  std::ostringstream md;
+  md << "Command: `" << command << "`  \nMachine: " << machine() << "\n\n"
+     << dlo::bench::tableMarkdown(rows) << notes(args, rows, runs);
+  // The slow methods see only the start of the sequence: the same span for the others, so that
+  // accuracy is compared on equal ground.
+  const bool any_slow =
+      std::any_of(args.methods.begin(), args.methods.end(), [](const auto* m) { return m->slow; });
+  std::vector<dlo::bench::MethodRow> first;
+  for (size_t i = 0; i < runs.size() && any_slow; ++i) {
+    if (runs[i].ms.size() > static_cast<size_t>(args.max_frames_slow)) {
+      first.push_back(dlo::bench::evaluateRun(runs[i], args.methods[i]->preprocessing, ground_truth,
+                                              args.max_frames_slow));
+    }
+  }
+  if (!first.empty()) {
+    md << "\nThe same runs over their first " << args.max_frames_slow
+       << " scans only (the span of the slow methods; timing and accuracy of that span, memory "
+          "of the whole run):\n\n"
+       << dlo::bench::tableMarkdown(first);
+  }
+  writeText(fs::path(args.out) / "table.md", md.str());
+  writeText(fs::path(args.out) / "table.csv", dlo::bench::tableCsv(rows));
+  dlo::writePng(dlo::bench::drawTrajectoryOverlay(ground_truth, trajectories),
+                (fs::path(args.out) / "trajectories.png").string());
+  std::cout << md.str();
+  return failed ? 1 : 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return dlo::runApp("dlo-bench", [&] {
+    const Arguments args = parseArguments(argc, argv);
+    if (args.help) {
+      std::cout << kUsage;
+      return 0;
+    }
+    return run(args, commandLine(argc, argv));
+  });
+}
