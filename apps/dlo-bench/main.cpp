@@ -13,13 +13,13 @@
 #include "dlo/bench/bench_table.h"
 #include "dlo/bench/method_registry.h"
 #include "dlo/bench/method_run.h"
+#include "dlo/eval/evaluation_figures.h"
 #include "dlo/export/atomic_file.h"
 #include "dlo/export/png_file.h"
 #include "dlo/metrics/trajectory_io.h"
 #include "dlo/mrpt/app_main.h"
 #include "dlo/mrpt/input_error.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
-#include "trajectory_overlay.h"
 
 namespace {
 
@@ -184,6 +184,24 @@ std::string machine() {
   return std::to_string(cpus) + " x " + model;
 }
 
+/// Top view of the ground truth and every estimate after its ATE alignment (dlo::eval's figure,
+/// as dlo-eval draws it). Estimates with fewer than 3 poses matched are left out.
+cv::Mat trajectoriesFigure(
+    const dlo::metrics::Trajectory& ground_truth,
+    const std::vector<std::pair<std::string, dlo::metrics::Trajectory>>& estimates) {
+  std::vector<dlo::eval::LabelledEvaluation> evaluations;
+  for (const auto& [name, trajectory] : estimates) {
+    const dlo::eval::MatchedPair pair = dlo::eval::matchByTime(trajectory, ground_truth, 0.005);
+    if (pair.estimate.size() < dlo::eval::kMinMatchedPoses) continue;
+    dlo::eval::LabelledEvaluation e;
+    e.label = name;
+    e.poses = trajectory.size();
+    e.evaluation = dlo::eval::evaluateEstimate(pair, dlo::eval::EvaluationOptions());
+    evaluations.push_back(std::move(e));
+  }
+  return dlo::eval::trajectoriesFigure(ground_truth, evaluations);
+}
+
 void writeText(const fs::path& path, const std::string& text) {
   dlo::writeBytesAtomically(path.string(), std::vector<unsigned char>(text.begin(), text.end()));
 }
@@ -287,7 +305,7 @@ int run(const Arguments& args, const std::string& command) {
   }
   writeText(fs::path(args.out) / "table.md", md.str());
   writeText(fs::path(args.out) / "table.csv", dlo::bench::tableCsv(rows));
-  dlo::writePng(dlo::bench::drawTrajectoryOverlay(ground_truth, trajectories),
+  dlo::writePng(trajectoriesFigure(ground_truth, trajectories),
                 (fs::path(args.out) / "trajectories.png").string());
   std::cout << md.str();
   return failed ? 1 : 0;
