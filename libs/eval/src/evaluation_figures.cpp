@@ -27,6 +27,8 @@ cv::Mat trajectoriesFigure(const metrics::Trajectory& ground_truth,
   gt.label = "ground truth";
   gt.points = topView(ground_truth);
   gt.colour = referenceColour();
+  // Wider than the estimates drawn over it, so the reference stays visible along both edges.
+  gt.thickness = 4;
   plot.addSeries(gt);
   for (size_t i = 0; i < estimates.size(); ++i) {
     PlotSeries s;
