@@ -44,7 +44,7 @@ The table is also printed.
 Methods (default: all of them):
   dlo-paper   the paper's frame-to-frame DLO (odometry.reference = 0, no loop closure)
   dlo         the full pipeline: local-map odometry, keyframe graph, loop closure (defaults)
-  icp         MRPT CICP (3D, classic) frame to frame on deskewed, cropped, voxel-filtered scans
+  icp         MRPT CICP (3D, classic) frame to frame on cropped, voxel-filtered scans
   ndt, gicp   PCL's 3D-NDT and GICP, same preprocessing (only when built with PCL)
 Frame-to-frame registrators start from a constant-velocity guess: for scan k,
 pose_{k-1} * (pose_{k-2}^-1 pose_{k-1}); DLO's odometry predicts with constant velocity too.
@@ -225,9 +225,9 @@ std::string notes(const Arguments& args, const std::vector<dlo::bench::MethodRow
        "program's baseline of about "
     << static_cast<int>(std::lround(baseline)) << " MB (libraries, scan reader).\n";
   o << "* Initial guess: the frame-to-frame registrators (icp, ndt, gicp) start scan k at "
-       "pose_{k-1} * (pose_{k-2}^-1 pose_{k-1}) and deskew with that constant velocity; "
+       "pose_{k-1} * (pose_{k-2}^-1 pose_{k-1}) and get the scans as measured (not deskewed); "
        "dlo-paper and dlo use LidarOdometry's own constant-velocity prediction (planar, over the "
-       "last two intervals) and deskewing.\n";
+       "last two intervals) and deskew with it.\n";
   o << "* Slow methods are limited to the first " << args.max_frames_slow
     << " scans (--max-frames-slow)";
   if (args.max_frames > 0) o << ", all methods to " << args.max_frames << " (--max-frames)";
