@@ -21,7 +21,7 @@ struct WeightedPoint {
 using WeightedCloud = std::vector<WeightedPoint>;
 
 /// Merges points into cubic voxels of side `voxel` metres (non-finite points are dropped).
-/// Deterministic: the output is sorted by voxel key.
+/// Deterministic: voxels come out in the order their first point appears.
 WeightedCloud voxelise(const PointCloud& points, double voxel);
 
 /// Re-voxelises a weighted cloud (weights add, centroids are weighted means), e.g. to keep a
