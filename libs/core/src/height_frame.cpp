@@ -37,11 +37,15 @@ void HeightFrame::build(const PointCloud& points, const HeightGridParams& grid,
 void HeightFrame::build(const WeightedCloud& points, const Eigen::Isometry3d& pose,
                         const HeightGridParams& grid, const SelectionParams& selection,
                         bool include_ground) {
+  build(std::vector<PosedCloud>{PosedCloud{&points, pose}}, grid, selection, include_ground);
+}
+
+void HeightFrame::build(const std::vector<PosedCloud>& parts, const HeightGridParams& grid,
+                        const SelectionParams& selection, bool include_ground) {
   times_ = StageTimes();
   levels_.resize(static_cast<size_t>(std::max(1, grid.levels)));
   Stopwatch sw;
-  levels_[0].grid.rasterise(points, pose,
-                            GridGeometry::centred(grid.cols, grid.rows, grid.resolution),
+  levels_[0].grid.rasterise(parts, GridGeometry::centred(grid.cols, grid.rows, grid.resolution),
                             grid.min_points, grid.min_z, grid.max_z);
   times_.grid_ms = sw.elapsedMs();
   buildLevels(selection, include_ground);

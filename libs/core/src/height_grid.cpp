@@ -60,18 +60,25 @@ void HeightGrid::rasterise(const PointCloud& points, const GridGeometry& geometr
 void HeightGrid::rasterise(const WeightedCloud& points, const Eigen::Isometry3d& pose,
                            const GridGeometry& geometry, int min_points, double min_z,
                            double max_z) {
+  rasterise(std::vector<PosedCloud>{PosedCloud{&points, pose}}, geometry, min_points, min_z, max_z);
+}
+
+void HeightGrid::rasterise(const std::vector<PosedCloud>& parts, const GridGeometry& geometry,
+                           int min_points, double min_z, double max_z) {
   geometry_ = geometry;
   min_points_ = min_points;
   count_.assign(geometry.cellCount(), 0u);
   sum_z_.assign(geometry.cellCount(), 0.0f);
-  const Eigen::Isometry3f T = pose.cast<float>();
-  accumulate(
-      points,
-      [&T](const WeightedPoint& w, Eigen::Vector3f& p, std::uint32_t& n) {
-        p = T * w.p;
-        n = w.n;
-      },
-      geometry, min_z, max_z, count_.data(), sum_z_.data());
+  for (const PosedCloud& part : parts) {
+    const Eigen::Isometry3f T = part.pose.cast<float>();
+    accumulate(
+        *part.cloud,
+        [&T](const WeightedPoint& w, Eigen::Vector3f& p, std::uint32_t& n) {
+          p = T * w.p;
+          n = w.n;
+        },
+        geometry, min_z, max_z, count_.data(), sum_z_.data());
+  }
   finalise();
 }
 

@@ -137,13 +137,10 @@ void LidarOdometry::rebuildLocalMap() {
   // a cell then averages every keyframe that saw it.
   const DloParams& reg = params_.registration;
   const Eigen::Isometry3d& anchor = recent_.back().pose;
-  WeightedCloud fused;
-  for (const RecentKeyframe& k : recent_) {
-    const WeightedCloud moved = transformed(k.cloud, anchor.inverse() * k.pose);
-    fused.insert(fused.end(), moved.begin(), moved.end());
-  }
-  reference_.build(fused, Eigen::Isometry3d::Identity(), reg.grid, reg.selection,
-                   reg.includeGround());
+  std::vector<PosedCloud> parts;
+  for (const RecentKeyframe& k : recent_)
+    parts.push_back(PosedCloud{&k.cloud, anchor.inverse() * k.pose});
+  reference_.build(parts, reg.grid, reg.selection, reg.includeGround());
   reference_pose_ = anchor;
   has_reference_ = true;
 }

@@ -18,16 +18,17 @@ enum class Dof {
 
 /// Solver parameters (INI section [solver]).
 struct SolverParams {
-  int dof = 3;                          ///< 3 or 6
-  int max_iterations = 30;              ///< per pyramid level
-  double huber_delta = 0.10;            ///< robust kernel width on the height error, metres
-  double max_residual = 2.0;            ///< residuals beyond this (m) are outliers, weight 0
-  double min_step_translation = 1e-4;   ///< convergence: translation update below this (m)
-  double min_step_rotation = 1e-5;      ///< convergence: rotation update below this (rad)
-  int min_cells = 30;                   ///< fewer usable cells than this: degenerate
-  double degeneracy_eigen_ratio = 0.02;  ///< eig_min/eig_max of the scaled Hessian below: degenerate
-  double rotation_scale = 10.0;         ///< metres; scales rotations against translations
-                                        ///< when judging conditioning
+  int dof = 3;                         ///< 3 or 6
+  int max_iterations = 30;             ///< per pyramid level
+  double huber_delta = 0.10;           ///< robust kernel width on the height error, metres
+  double max_residual = 2.0;           ///< residuals beyond this (m) are outliers, weight 0
+  double min_step_translation = 1e-4;  ///< convergence: translation update below this (m)
+  double min_step_rotation = 1e-5;     ///< convergence: rotation update below this (rad)
+  int min_cells = 30;                  ///< fewer usable cells than this: degenerate
+  double degeneracy_eigen_ratio =
+      0.02;                      ///< eig_min/eig_max of the scaled Hessian below: degenerate
+  double rotation_scale = 10.0;  ///< metres; scales rotations against translations
+                                 ///< when judging conditioning
 };
 
 /// Outcome of one registration.

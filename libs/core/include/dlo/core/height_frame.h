@@ -40,6 +40,9 @@ class HeightFrame {
   /// Rebuilds this frame from weighted points seen from `pose` (see HeightGrid::rasterise).
   void build(const WeightedCloud& points, const Eigen::Isometry3d& pose,
              const HeightGridParams& grid, const SelectionParams& selection, bool include_ground);
+  /// Rebuilds this frame from several posed clouds fused into one grid.
+  void build(const std::vector<PosedCloud>& parts, const HeightGridParams& grid,
+             const SelectionParams& selection, bool include_ground);
 
   /// Builds the pyramid from an existing finest-level grid.
   static HeightFrame fromGrid(const HeightGrid& finest, int levels,

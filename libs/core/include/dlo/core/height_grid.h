@@ -50,6 +50,9 @@ class HeightGrid {
   /// and to fuse several keyframes into a local map.
   void rasterise(const WeightedCloud& points, const Eigen::Isometry3d& pose,
                  const GridGeometry& geometry, int min_points, double min_z, double max_z);
+  /// Rasterises several posed clouds into one grid (their counts and sums add up).
+  void rasterise(const std::vector<PosedCloud>& parts, const GridGeometry& geometry, int min_points,
+                 double min_z, double max_z);
 
   /// The next coarser level (cells twice as large) from pooled sums and counts.
   HeightGrid coarser() const;

@@ -20,6 +20,14 @@ struct WeightedPoint {
 
 using WeightedCloud = std::vector<WeightedPoint>;
 
+/// A weighted cloud seen from a pose: rasterising it maps each point by pose * p. Several views
+/// rasterised together fuse clouds (e.g. recent keyframes into a local map) without copying
+/// them into one frame first.
+struct PosedCloud {
+  const WeightedCloud* cloud = nullptr;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+};
+
 /// Merges points into cubic voxels of side `voxel` metres (non-finite points are dropped).
 /// Deterministic: voxels come out in the order their first point appears.
 WeightedCloud voxelise(const PointCloud& points, double voxel);
