@@ -92,7 +92,9 @@ rotation_scale = 12
 
 class TempFile {
  public:
-  explicit TempFile(const std::string& text) : path_(testing::TempDir() + "dlo_config_test.ini") {
+  explicit TempFile(const std::string& text)
+      : path_(testing::TempDir() + "dlo_config_test_" +
+              testing::UnitTest::GetInstance()->current_test_info()->name() + ".ini") {
     std::ofstream(path_) << text;
   }
   ~TempFile() { std::remove(path_.c_str()); }

@@ -28,7 +28,9 @@ class PlyFile : public ::testing::Test {
     return "";
   }
   void TearDown() override { std::remove(path_.c_str()); }
-  const std::string path_ = testing::TempDir() + "dlo_ply_test.ply";
+  // One file per test: ctest runs the tests of this binary in parallel processes.
+  const std::string path_ = testing::TempDir() + "dlo_ply_test_" +
+                            testing::UnitTest::GetInstance()->current_test_info()->name() + ".ply";
 };
 
 /// `v` as the bytes of a float in the given byte order.

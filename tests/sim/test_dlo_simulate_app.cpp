@@ -28,7 +28,10 @@ struct RunResult {
 };
 
 RunResult runSimulator(const std::string& args) {
-  const fs::path errFile = fs::path(testing::TempDir()) / "dlo_simulate_stderr.txt";
+  // One file per test: ctest runs the tests of this binary in parallel processes.
+  const fs::path errFile = fs::path(testing::TempDir()) /
+                           (std::string("dlo_simulate_stderr_") +
+                            testing::UnitTest::GetInstance()->current_test_info()->name() + ".txt");
   const std::string cmd = std::string(DLO_SIMULATE_BINARY) + " " + args + " 2> " + errFile.string();
   RunResult r;
   const int raw = std::system(cmd.c_str());
