@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -18,6 +19,7 @@
 #include "dlo/export/png_file.h"
 #include "dlo/metrics/trajectory_io.h"
 #include "dlo/mrpt/app_main.h"
+#include "dlo/mrpt/command_line.h"
 #include "dlo/mrpt/input_error.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 
@@ -72,20 +74,13 @@ struct Arguments {
   bool quiet = false, help = false;
 };
 
-double toNumber(const std::string& option, const std::string& text) {
-  try {
-    size_t used = 0;
-    const double v = std::stod(text, &used);
-    if (used == text.size()) return v;
-  } catch (const std::exception&) {
-  }
-  throw UsageError{option + " expects a number, got '" + text + "'."};
-}
-
-long toCount(const std::string& option, const std::string& text) {
-  const double v = toNumber(option, text);
+/// The value of `option` as a number of frames >= 1, or `fallback` when absent.
+long toCount(const dlo::CommandLine& cl, const std::string& option, long fallback) {
+  const std::optional<std::string> text = cl.value(option);
+  if (!text) return fallback;
+  const double v = dlo::CommandLine::toNumber(option, *text);
   if (!(v >= 1.0) || v != std::floor(v)) {
-    throw UsageError{option + " expects a whole number of frames >= 1, got '" + text + "'."};
+    throw UsageError{option + " expects a whole number of frames >= 1, got '" + *text + "'."};
   }
   return static_cast<long>(v);
 }
@@ -108,60 +103,31 @@ std::vector<const dlo::bench::MethodSpec*> parseMethods(const std::string& list)
 }
 
 Arguments parseArguments(int argc, char** argv) {
+  const dlo::CommandLine cl(argc, argv,
+                            {"--input", "--gt", "--out", "--methods", "--max-frames",
+                             "--max-frames-slow", "--min-range", "--max-range"},
+                            {"--quiet"});
   Arguments a;
-  const std::vector<std::string> with_value = {"--input",     "--gt",         "--out",
-                                               "--methods",   "--max-frames", "--max-frames-slow",
-                                               "--min-range", "--max-range"};
-  std::string methods;
-  for (int i = 1; i < argc; ++i) {
-    std::string arg = argv[i], value;
-    if (arg == "--help" || arg == "-h") {
-      a.help = true;
-      return a;
-    }
-    if (arg == "--quiet") {
-      a.quiet = true;
-      continue;
-    }
-    const auto eq = arg.find('=');
-    if (arg.rfind("--", 0) == 0 && eq != std::string::npos) {
-      value = arg.substr(eq + 1);
-      arg = arg.substr(0, eq);
-    } else if (std::find(with_value.begin(), with_value.end(), arg) != with_value.end()) {
-      if (i + 1 >= argc) throw UsageError{arg + " needs a value."};
-      value = argv[++i];
-    } else {
-      throw UsageError{"unexpected argument '" + arg + "' (see --help)."};
-    }
-    if (arg == "--input")
-      a.input = value;
-    else if (arg == "--gt")
-      a.gt = value;
-    else if (arg == "--out")
-      a.out = value;
-    else if (arg == "--methods")
-      methods = value;
-    else if (arg == "--max-frames")
-      a.max_frames = toCount(arg, value);
-    else if (arg == "--max-frames-slow")
-      a.max_frames_slow = toCount(arg, value);
-    else if (arg == "--min-range")
-      a.min_range = toNumber(arg, value);
-    else if (arg == "--max-range")
-      a.max_range = toNumber(arg, value);
-    else
-      throw UsageError{"unknown option '" + arg + "' (see --help)."};
-  }
-  if (a.input.empty()) throw UsageError{"--input is required (see --help)."};
-  if (a.gt.empty()) throw UsageError{"--gt is required (see --help)."};
-  if (a.out.empty()) throw UsageError{"--out is required (see --help)."};
+  a.help = cl.help();
+  if (a.help) return a;
+  cl.rejectPositional();
+  a.quiet = cl.flag("--quiet");
+  a.max_frames = toCount(cl, "--max-frames", a.max_frames);
+  a.max_frames_slow = toCount(cl, "--max-frames-slow", a.max_frames_slow);
+  a.min_range = cl.number("--min-range", a.min_range);
+  a.max_range = cl.number("--max-range", a.max_range);
+  a.input = cl.required("--input");
+  a.gt = cl.required("--gt");
+  a.out = cl.required("--out");
   if (!(a.min_range >= 0.0 && a.max_range > a.min_range)) {
     throw UsageError{"--min-range and --max-range must satisfy 0 <= min < max."};
   }
-  for (const auto& m : dlo::bench::availableMethods()) {
-    if (methods.empty()) a.methods.push_back(&m);
+  const std::string methods = cl.text("--methods");
+  if (methods.empty()) {
+    for (const auto& m : dlo::bench::availableMethods()) a.methods.push_back(&m);
+  } else {
+    a.methods = parseMethods(methods);
   }
-  if (!methods.empty()) a.methods = parseMethods(methods);
   return a;
 }
 

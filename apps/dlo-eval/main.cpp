@@ -15,6 +15,7 @@
 #include "dlo/export/png_file.h"
 #include "dlo/metrics/trajectory_io.h"
 #include "dlo/mrpt/app_main.h"
+#include "dlo/mrpt/command_line.h"
 #include "dlo/mrpt/input_error.h"
 
 namespace {
@@ -72,63 +73,32 @@ struct Arguments {
   bool help = false;
 };
 
-double toNumber(const std::string& option, const std::string& text) {
-  try {
-    size_t used = 0;
-    const double v = std::stod(text, &used);
-    if (used == text.size()) return v;
-  } catch (const std::exception&) {
-  }
-  throw UsageError{option + " expects a number, got '" + text + "'."};
-}
-
 Arguments parseArguments(int argc, char** argv) {
+  const dlo::CommandLine cl(
+      argc, argv, {"--gt", "--est", "--label", "--out", "--alignment", "--max-dt", "--gt-times"},
+      {});
   Arguments a;
-  const std::vector<std::string> with_value = {"--gt",        "--est",    "--label",   "--out",
-                                               "--alignment", "--max-dt", "--gt-times"};
-  for (int i = 1; i < argc; ++i) {
-    std::string arg = argv[i], value;
-    if (arg == "--help" || arg == "-h") {
-      a.help = true;
-      return a;
-    }
-    const auto eq = arg.find('=');
-    if (arg.rfind("--", 0) == 0 && eq != std::string::npos) {
-      value = arg.substr(eq + 1);
-      arg = arg.substr(0, eq);
-    } else if (std::find(with_value.begin(), with_value.end(), arg) != with_value.end()) {
-      if (i + 1 >= argc) throw UsageError{arg + " needs a value."};
-      value = argv[++i];
+  a.help = cl.help();
+  if (a.help) return a;
+  cl.rejectPositional();
+  a.gt = cl.text("--gt");
+  a.estimates = cl.values("--est");
+  a.labels = cl.values("--label");
+  a.out = cl.text("--out");
+  a.gt_times = cl.text("--gt-times");
+  a.max_dt = cl.number("--max-dt", a.max_dt);
+  if (const auto alignment = cl.value("--alignment")) {
+    if (*alignment == "umeyama") {
+      a.alignment = metrics::Alignment::kUmeyama;
+    } else if (*alignment == "first") {
+      a.alignment = metrics::Alignment::kFirstPose;
     } else {
-      throw UsageError{"unexpected argument '" + arg + "' (see --help)."};
-    }
-    if (arg == "--gt") {
-      a.gt = value;
-    } else if (arg == "--est") {
-      a.estimates.push_back(value);
-    } else if (arg == "--label") {
-      a.labels.push_back(value);
-    } else if (arg == "--out") {
-      a.out = value;
-    } else if (arg == "--gt-times") {
-      a.gt_times = value;
-    } else if (arg == "--max-dt") {
-      a.max_dt = toNumber(arg, value);
-    } else if (arg == "--alignment") {
-      if (value == "umeyama") {
-        a.alignment = metrics::Alignment::kUmeyama;
-      } else if (value == "first") {
-        a.alignment = metrics::Alignment::kFirstPose;
-      } else {
-        throw UsageError{"--alignment expects umeyama or first, got '" + value + "'."};
-      }
-    } else {
-      throw UsageError{"unknown option '" + arg + "' (see --help)."};
+      throw UsageError{"--alignment expects umeyama or first, got '" + *alignment + "'."};
     }
   }
-  if (a.gt.empty()) throw UsageError{"--gt is required (see --help)."};
+  cl.required("--gt");
   if (a.estimates.empty()) throw UsageError{"at least one --est is required (see --help)."};
-  if (a.out.empty()) throw UsageError{"--out is required (see --help)."};
+  cl.required("--out");
   if (!a.labels.empty() && a.labels.size() != a.estimates.size()) {
     throw UsageError{std::to_string(a.labels.size()) + " --label given for " +
                      std::to_string(a.estimates.size()) +

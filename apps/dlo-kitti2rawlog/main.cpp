@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "dlo/mrpt/app_main.h"
+#include "dlo/mrpt/command_line.h"
 #include "dlo/mrpt/input_error.h"
 #include "dlo/mrpt/kitti_conversion.h"
 #include "dlo/mrpt/progress_bar.h"
@@ -50,43 +51,20 @@ struct Arguments {
 };
 
 Arguments parseArguments(int argc, char** argv) {
+  const dlo::CommandLine cl(argc, argv, {"--gt"}, {"--quiet"});
   Arguments a;
-  std::vector<std::string> positional;
-  for (int i = 1; i < argc; ++i) {
-    std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      a.help = true;
-      return a;
-    }
-    if (arg.rfind("--", 0) != 0 || arg == "--") {
-      positional.push_back(arg);
-      continue;
-    }
-    // Both "--opt value" and "--opt=value".
-    std::string value;
-    const auto eq = arg.find('=');
-    if (eq != std::string::npos) {
-      value = arg.substr(eq + 1);
-      arg = arg.substr(0, eq);
-    } else if (arg == "--gt") {
-      if (i + 1 >= argc) throw UsageError{arg + " needs a value."};
-      value = argv[++i];
-    }
-    if (arg == "--gt") {
-      if (value.empty()) throw UsageError{"--gt needs a file name."};
-      a.gt = value;
-    } else if (arg == "--quiet") {
-      a.quiet = true;
-    } else {
-      throw UsageError{"unknown option '" + arg + "' (see --help)."};
-    }
+  a.help = cl.help();
+  if (a.help) return a;
+  const auto gt = cl.value("--gt");
+  if (gt && gt->empty()) throw UsageError{"--gt needs a file name."};
+  a.gt = cl.text("--gt");
+  a.quiet = cl.flag("--quiet");
+  if (cl.positional().size() != 2) {
+    throw UsageError{"expected SEQ_DIR and OUT.rawlog, got " +
+                     std::to_string(cl.positional().size()) + " arguments (see --help)."};
   }
-  if (positional.size() != 2) {
-    throw UsageError{"expected SEQ_DIR and OUT.rawlog, got " + std::to_string(positional.size()) +
-                     " arguments (see --help)."};
-  }
-  a.seq_dir = positional[0];
-  a.out = positional[1];
+  a.seq_dir = cl.positional()[0];
+  a.out = cl.positional()[1];
   return a;
 }
 

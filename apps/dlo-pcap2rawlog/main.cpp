@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "dlo/mrpt/app_main.h"
+#include "dlo/mrpt/command_line.h"
 #include "dlo/mrpt/input_error.h"
 #include "dlo/mrpt/pcap_conversion.h"
 #include "dlo/mrpt/progress_bar.h"
@@ -43,43 +44,19 @@ struct Arguments {
 };
 
 Arguments parseArguments(int argc, char** argv) {
+  const dlo::CommandLine cl(argc, argv, {"--model"}, {"--quiet"});
   Arguments a;
-  std::vector<std::string> positional;
-  for (int i = 1; i < argc; ++i) {
-    std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      a.help = true;
-      return a;
-    }
-    if (arg.rfind("--", 0) != 0 || arg == "--") {
-      positional.push_back(arg);
-      continue;
-    }
-    // Both "--opt value" and "--opt=value".
-    std::string value;
-    const auto eq = arg.find('=');
-    if (eq != std::string::npos) {
-      value = arg.substr(eq + 1);
-      arg = arg.substr(0, eq);
-    } else if (arg == "--model") {
-      if (i + 1 >= argc) throw UsageError{arg + " needs a value."};
-      value = argv[++i];
-    }
-    if (arg == "--model") {
-      a.model = value;
-    } else if (arg == "--quiet") {
-      a.quiet = true;
-    } else {
-      throw UsageError{"unknown option '" + arg + "' (see --help)."};
-    }
-  }
-  if (positional.size() != 2) {
-    throw UsageError{"expected IN.pcap and OUT.rawlog, got " + std::to_string(positional.size()) +
-                     " arguments (see --help)."};
+  a.help = cl.help();
+  if (a.help) return a;
+  a.model = cl.text("--model");
+  a.quiet = cl.flag("--quiet");
+  if (cl.positional().size() != 2) {
+    throw UsageError{"expected IN.pcap and OUT.rawlog, got " +
+                     std::to_string(cl.positional().size()) + " arguments (see --help)."};
   }
   if (a.model.empty()) throw UsageError{"--model VLP16|HDL32|HDL64 is required."};
-  a.pcap = positional[0];
-  a.out = positional[1];
+  a.pcap = cl.positional()[0];
+  a.out = cl.positional()[1];
   return a;
 }
 

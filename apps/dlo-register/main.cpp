@@ -10,6 +10,7 @@
 #include "dlo/core/stage_times.h"
 #include "dlo/mrpt/CDirectHeightAligner.h"
 #include "dlo/mrpt/app_main.h"
+#include "dlo/mrpt/command_line.h"
 #include "dlo/mrpt/dlo_config.h"
 #include "dlo/mrpt/input_error.h"
 #include "dlo/mrpt/registration_report.h"
@@ -91,46 +92,20 @@ mrpt::poses::CPose3D parseInit(const std::string& text) {
 }
 
 Arguments parseArguments(int argc, char** argv) {
+  const dlo::CommandLine cl(argc, argv, {"--dof", "--init", "--config", "--set"}, {});
   Arguments a;
-  std::vector<std::string> positional;
-  for (int i = 1; i < argc; ++i) {
-    std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      a.help = true;
-      return a;
-    }
-    if (arg.rfind("--", 0) != 0 || arg == "--") {
-      positional.push_back(arg);
-      continue;
-    }
-    // Both "--opt value" and "--opt=value".
-    std::string value;
-    const auto eq = arg.find('=');
-    if (eq != std::string::npos) {
-      value = arg.substr(eq + 1);
-      arg = arg.substr(0, eq);
-    } else if (arg == "--dof" || arg == "--init" || arg == "--config" || arg == "--set") {
-      if (i + 1 >= argc) throw UsageError{arg + " needs a value."};
-      value = argv[++i];
-    }
-    if (arg == "--dof") {
-      a.dof = parseDof(value);
-    } else if (arg == "--init") {
-      a.init = parseInit(value);
-    } else if (arg == "--config") {
-      a.config = value;
-    } else if (arg == "--set") {
-      a.sets.push_back(value);
-    } else {
-      throw UsageError{"unknown option '" + arg + "' (see --help)."};
-    }
-  }
-  if (positional.size() != 2) {
+  a.help = cl.help();
+  if (a.help) return a;
+  if (const auto dof = cl.value("--dof")) a.dof = parseDof(*dof);
+  if (const auto init = cl.value("--init")) a.init = parseInit(*init);
+  a.config = cl.text("--config");
+  a.sets = cl.values("--set");
+  if (cl.positional().size() != 2) {
     throw UsageError{"expected two scan files REF and CUR, got " +
-                     std::to_string(positional.size()) + " (see --help)."};
+                     std::to_string(cl.positional().size()) + " (see --help)."};
   }
-  a.ref = positional[0];
-  a.cur = positional[1];
+  a.ref = cl.positional()[0];
+  a.cur = cl.positional()[1];
   return a;
 }
 

@@ -14,6 +14,7 @@
 #include "dlo/export/export_all.h"
 #include "dlo/metrics/trajectory_io.h"
 #include "dlo/mrpt/app_main.h"
+#include "dlo/mrpt/command_line.h"
 #include "dlo/mrpt/input_error.h"
 #include "dlo/mrpt/progress_bar.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
@@ -83,71 +84,30 @@ struct Arguments {
   bool quiet = false, dump_config = false, help = false;
 };
 
-double toNumber(const std::string& option, const std::string& text) {
-  try {
-    size_t used = 0;
-    const double v = std::stod(text, &used);
-    if (used == text.size()) return v;
-  } catch (const std::exception&) {
-  }
-  throw UsageError{option + " expects a number, got '" + text + "'."};
-}
-
 Arguments parseArguments(int argc, char** argv) {
+  const dlo::CommandLine cl(argc, argv,
+                            {"--input", "--out", "--config", "--gt", "--set", "--model",
+                             "--sensor-label", "--min-range", "--max-range", "--max-frames"},
+                            {"--quiet", "--dump-config"});
   Arguments a;
-  const std::vector<std::string> with_value = {
-      "--input", "--out",          "--config",    "--gt",        "--set",
-      "--model", "--sensor-label", "--min-range", "--max-range", "--max-frames"};
-  for (int i = 1; i < argc; ++i) {
-    std::string arg = argv[i], value;
-    if (arg == "--help" || arg == "-h") {
-      a.help = true;
-      return a;
-    }
-    if (arg == "--quiet") {
-      a.quiet = true;
-      continue;
-    }
-    if (arg == "--dump-config") {
-      a.dump_config = true;
-      continue;
-    }
-    const auto eq = arg.find('=');
-    if (arg.rfind("--", 0) == 0 && eq != std::string::npos) {
-      value = arg.substr(eq + 1);
-      arg = arg.substr(0, eq);
-    } else if (std::find(with_value.begin(), with_value.end(), arg) != with_value.end()) {
-      if (i + 1 >= argc) throw UsageError{arg + " needs a value."};
-      value = argv[++i];
-    } else {
-      throw UsageError{"unexpected argument '" + arg + "' (see --help)."};
-    }
-    if (arg == "--input")
-      a.input = value;
-    else if (arg == "--out")
-      a.out = value;
-    else if (arg == "--config")
-      a.config = value;
-    else if (arg == "--gt")
-      a.gt = value;
-    else if (arg == "--set")
-      a.sets.push_back(value);
-    else if (arg == "--model")
-      a.model = value;
-    else if (arg == "--sensor-label")
-      a.sensor_label = value;
-    else if (arg == "--min-range")
-      a.min_range = toNumber(arg, value);
-    else if (arg == "--max-range")
-      a.max_range = toNumber(arg, value);
-    else if (arg == "--max-frames")
-      a.max_frames = static_cast<long>(toNumber(arg, value));
-    else
-      throw UsageError{"unknown option '" + arg + "' (see --help)."};
-  }
+  a.help = cl.help();
+  if (a.help) return a;
+  cl.rejectPositional();
+  a.input = cl.text("--input");
+  a.out = cl.text("--out");
+  a.config = cl.text("--config");
+  a.gt = cl.text("--gt");
+  a.sets = cl.values("--set");
+  a.model = cl.text("--model");
+  a.sensor_label = cl.text("--sensor-label");
+  a.min_range = cl.number("--min-range", a.min_range);
+  a.max_range = cl.number("--max-range", a.max_range);
+  a.max_frames = cl.integer("--max-frames", a.max_frames);
+  a.quiet = cl.flag("--quiet");
+  a.dump_config = cl.flag("--dump-config");
   if (a.dump_config) return a;
-  if (a.input.empty()) throw UsageError{"--input is required (see --help)."};
-  if (a.out.empty()) throw UsageError{"--out is required (see --help)."};
+  cl.required("--input");
+  cl.required("--out");
   if (!(a.min_range >= 0.0 && a.max_range > a.min_range)) {
     throw UsageError{"--min-range and --max-range must satisfy 0 <= min < max."};
   }
