@@ -1,8 +1,21 @@
 #!/usr/bin/env bash
-# README command (2): install what is missing, build, and run the whole test suite with ctest.
+# README command (2): install what is missing, build, and run the whole test suite with ctest;
+# then build again with AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/) and run the
+# suite once more under them. DLO_SKIP_SANITIZERS=1 skips the second pass.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
 bash scripts/build.sh
-cd build
-ctest --output-on-failure -j "${DLO_JOBS:-2}"
+(cd build && ctest --output-on-failure -j "${DLO_JOBS:-2}")
+
+if [ "${DLO_SKIP_SANITIZERS:-0}" != "1" ]; then
+  echo "run_tests: the same suite under AddressSanitizer and UndefinedBehaviorSanitizer"
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDLO_SANITIZE=ON \
+    -DDLO_BUILD_BENCHMARKS=OFF >/dev/null
+  cmake --build build-asan -j "${DLO_JOBS:-2}"
+  supp="$PWD/tests/sanitizers"
+  export ASAN_OPTIONS="detect_leaks=1"
+  export LSAN_OPTIONS="suppressions=$supp/lsan.supp"
+  export UBSAN_OPTIONS="suppressions=$supp/ubsan.supp:print_stacktrace=1:halt_on_error=1"
+  (cd build-asan && ctest --output-on-failure -j "${DLO_JOBS:-2}")
+fi
