@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "../test_data.h"
+#include "../test_process.h"
 #include "dlo/core/rigid_transform.h"
 #include "dlo/mrpt/scan_file.h"
 
@@ -18,25 +19,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int status = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-/// Single-quotes an argument for /bin/sh.
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
+using test::readFile;
+using test::RunResult;
 
 /// Temporary files of one test, removed with it.
 class Workdir {
@@ -56,10 +40,10 @@ class Workdir {
 };
 
 RunResult runRegister(const std::vector<std::string>& args, const Workdir& wd) {
-  std::string cmd = quote(DLO_REGISTER_BINARY);
-  for (const auto& a : args) cmd += " " + quote(a);
+  std::string cmd = test::shellQuote(DLO_REGISTER_BINARY);
+  for (const auto& a : args) cmd += " " + test::shellQuote(a);
   const std::string out = wd.path("stdout.txt"), err = wd.path("stderr.txt");
-  cmd += " >" + quote(out) + " 2>" + quote(err);
+  cmd += " >" + test::shellQuote(out) + " 2>" + test::shellQuote(err);
   RunResult r;
   const int raw = std::system(cmd.c_str());
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;

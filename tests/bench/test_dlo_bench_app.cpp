@@ -2,6 +2,8 @@
 // the command-line and input errors.
 #include <gtest/gtest.h>
 
+#include "../test_process.h"
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -20,10 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string readFile(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
+  return test::readFile(path.string());
 }
 
 /// Splits one CSV line; quoted cells may hold commas.

@@ -2,6 +2,8 @@
 // exit statuses out.
 #include <gtest/gtest.h>
 
+#include "../test_process.h"
+
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -72,10 +74,7 @@ struct CliRun {
 };
 
 std::string readFile(const fs::path& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
+  return test::readFile(path.string());
 }
 
 /// A value of metrics.json: the keys are searched in order, each after the previous one, so

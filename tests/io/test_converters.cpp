@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "../test_process.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 #include "io_test_helpers.h"
 
@@ -15,32 +16,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int status = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-/// Single-quotes an argument for /bin/sh.
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
+using test::readFile;
+using test::RunResult;
 
 RunResult run(const std::string& binary, const std::vector<std::string>& args,
               const test::TempDir& dir) {
-  std::string cmd = quote(binary);
-  for (const auto& a : args) cmd += " " + quote(a);
+  std::string cmd = test::shellQuote(binary);
+  for (const auto& a : args) cmd += " " + test::shellQuote(a);
   const std::string out = dir.path("stdout.txt"), err = dir.path("stderr.txt");
-  cmd += " >" + quote(out) + " 2>" + quote(err);
+  cmd += " >" + test::shellQuote(out) + " 2>" + test::shellQuote(err);
   RunResult r;
   const int raw = std::system(cmd.c_str());
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;

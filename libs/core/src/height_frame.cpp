@@ -23,15 +23,11 @@ HeightFrame HeightFrame::fromGrid(const HeightGrid& finest, int levels,
 
 void HeightFrame::build(const PointCloud& points, const HeightGridParams& grid,
                         const SelectionParams& selection, bool include_ground) {
-  times_ = StageTimes();
-  // resize() keeps the existing levels and their buffers: a frame rebuilt for every scan
-  // reaches a steady state with no allocation at all.
-  levels_.resize(static_cast<size_t>(std::max(1, grid.levels)));
-  Stopwatch sw;
-  levels_[0].grid.rasterise(points, GridGeometry::centred(grid.cols, grid.rows, grid.resolution),
-                            grid.min_points, grid.min_z, grid.max_z);
-  times_.grid_ms = sw.elapsedMs();
-  buildLevels(selection, include_ground);
+  buildWith(
+      [&](HeightGrid& finest, const GridGeometry& geometry) {
+        finest.rasterise(points, geometry, grid.min_points, grid.min_z, grid.max_z);
+      },
+      grid, selection, include_ground);
 }
 
 void HeightFrame::build(const WeightedCloud& points, const Eigen::Isometry3d& pose,
@@ -42,11 +38,22 @@ void HeightFrame::build(const WeightedCloud& points, const Eigen::Isometry3d& po
 
 void HeightFrame::build(const std::vector<PosedCloud>& parts, const HeightGridParams& grid,
                         const SelectionParams& selection, bool include_ground) {
+  buildWith(
+      [&](HeightGrid& finest, const GridGeometry& geometry) {
+        finest.rasterise(parts, geometry, grid.min_points, grid.min_z, grid.max_z);
+      },
+      grid, selection, include_ground);
+}
+
+void HeightFrame::buildWith(
+    const std::function<void(HeightGrid&, const GridGeometry&)>& rasterise_finest,
+    const HeightGridParams& grid, const SelectionParams& selection, bool include_ground) {
   times_ = StageTimes();
+  // resize() keeps the existing levels and their buffers: a frame rebuilt for every scan
+  // reaches a steady state with no allocation at all.
   levels_.resize(static_cast<size_t>(std::max(1, grid.levels)));
   Stopwatch sw;
-  levels_[0].grid.rasterise(parts, GridGeometry::centred(grid.cols, grid.rows, grid.resolution),
-                            grid.min_points, grid.min_z, grid.max_z);
+  rasterise_finest(levels_[0].grid, GridGeometry::centred(grid.cols, grid.rows, grid.resolution));
   times_.grid_ms = sw.elapsedMs();
   buildLevels(selection, include_ground);
 }

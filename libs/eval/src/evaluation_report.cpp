@@ -1,5 +1,7 @@
 #include "dlo/eval/evaluation_report.h"
 
+#include "dlo/core/json_text.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,41 +11,8 @@ namespace dlo::eval {
 
 namespace {
 
-std::string jsonString(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          char escaped[8];
-          std::snprintf(escaped, sizeof(escaped), "\\u%04x", static_cast<unsigned>(c));
-          out += escaped;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
-}
-
-/// JSON has no NaN or infinity; null keeps the file parseable.
 std::string jsonNumber(double v) {
-  if (!std::isfinite(v)) return "null";
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.9g", v);
-  return text;
+  return dlo::jsonNumber(v, 9);
 }
 
 std::string statistics(const metrics::ErrorStatistics& s) {

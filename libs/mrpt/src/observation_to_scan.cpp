@@ -133,4 +133,34 @@ ObservationConversion observationToTimedScan(mrpt::obs::CObservation& obs,
   return ObservationConversion::kUnsupported;
 }
 
+std::string shortClassName(const mrpt::serialization::CSerializable& object) {
+  std::string name = object.GetRuntimeClass()->className;
+  const auto colon = name.rfind(':');
+  return colon == std::string::npos ? name : name.substr(colon + 1);
+}
+
+bool admitObservation(mrpt::obs::CObservation& obs, const ScanSourceOptions& options,
+                      TimedScan& scan, ScanSourceStats& stats) {
+  if (!options.sensor_label.empty() && obs.sensorLabel != options.sensor_label) {
+    ++stats.skipped_by_label;
+    return false;
+  }
+  std::string reason;
+  const ObservationConversion result = observationToTimedScan(obs, options, scan, reason);
+  if (result != ObservationConversion::kConverted) {
+    const std::string cls = shortClassName(obs);
+    ++stats.skipped_by_class[cls];
+    if (result == ObservationConversion::kUnrecoverable) stats.skip_reasons[cls] = reason;
+    return false;
+  }
+  stats.dropped_non_finite += scan.dropped_non_finite;
+  stats.dropped_by_range += scan.dropped_by_range;
+  if (scan.points.empty()) {
+    ++stats.empty_scans;
+    return false;
+  }
+  ++stats.scans;
+  return true;
+}
+
 }  // namespace dlo

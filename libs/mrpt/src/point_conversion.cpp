@@ -1,9 +1,9 @@
 #include "dlo/mrpt/point_conversion.h"
 
-#include <cmath>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationPointCloud.h>
 #include <mrpt/obs/CObservationVelodyneScan.h>
+#include <cmath>
 
 namespace dlo {
 

@@ -25,13 +25,6 @@ std::string shortMessage(const std::exception& e) {
   return first == std::string::npos ? std::string() : line.substr(first);
 }
 
-/// Short class name of a serializable ("CObservationOdometry", without the namespace).
-std::string className(const mrpt::serialization::CSerializable& object) {
-  std::string name = object.GetRuntimeClass()->className;
-  const auto colon = name.rfind(':');
-  return colon == std::string::npos ? name : name.substr(colon + 1);
-}
-
 bool hasGzipMagic(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   unsigned char magic[2] = {0, 0};
@@ -106,7 +99,7 @@ void RawlogScanSource::queueObservations() {
     pending_.push_back(o);
   } else if (!std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(object_)) {
     // Actions are part of the pair layout, not data to report; anything else is.
-    ++stats_.skipped_by_class[className(*object_)];
+    ++stats_.skipped_by_class[shortClassName(*object_)];
   }
   object_.reset();
 }
@@ -128,28 +121,8 @@ bool RawlogScanSource::next(TimedScan& scan) {
   for (;;) {
     const auto obs = nextObservation();
     if (!obs) return false;
-    // Before conversion: other sensors' observations may be costly to convert.
-    if (!options_.sensor_label.empty() && obs->sensorLabel != options_.sensor_label) {
-      ++stats_.skipped_by_label;
-      continue;
-    }
     scan.entry_index = object_index_;  // observations of a sensory frame share its entry
-    std::string reason;
-    const ObservationConversion result = observationToTimedScan(*obs, options_, scan, reason);
-    if (result != ObservationConversion::kConverted) {
-      const std::string cls = className(*obs);
-      ++stats_.skipped_by_class[cls];
-      if (result == ObservationConversion::kUnrecoverable) stats_.skip_reasons[cls] = reason;
-      continue;
-    }
-    stats_.dropped_non_finite += scan.dropped_non_finite;
-    stats_.dropped_by_range += scan.dropped_by_range;
-    if (scan.points.empty()) {
-      ++stats_.empty_scans;
-      continue;
-    }
-    ++stats_.scans;
-    return true;
+    if (admitObservation(*obs, options_, scan, stats_)) return true;
   }
 }
 

@@ -1,19 +1,17 @@
 #include "dlo/mrpt/registration_report.h"
 
 #include <cmath>
+
 #include <sstream>
+#include "dlo/core/json_text.h"
 
 namespace dlo {
 
 namespace {
 
-/// JSON has no NaN or infinity; a degenerate solve can produce them in the covariance.
+/// A degenerate solve can produce NaN or infinity in the covariance: written as null.
 std::string number(double v) {
-  if (!std::isfinite(v)) return "null";
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
+  return jsonNumber(v, 17);
 }
 
 }  // namespace

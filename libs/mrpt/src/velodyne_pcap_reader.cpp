@@ -129,20 +129,7 @@ bool VelodynePcapScanSource::next(TimedScan& scan) {
     const auto obs = reader_.next();
     if (!obs) return false;
     scan.entry_index = stats_.entries_read++;
-    if (!options_.sensor_label.empty() && obs->sensorLabel != options_.sensor_label) {
-      ++stats_.skipped_by_label;
-      continue;
-    }
-    std::string reason;
-    observationToTimedScan(*obs, options_, scan, reason);
-    stats_.dropped_non_finite += scan.dropped_non_finite;
-    stats_.dropped_by_range += scan.dropped_by_range;
-    if (scan.points.empty()) {
-      ++stats_.empty_scans;
-      continue;
-    }
-    ++stats_.scans;
-    return true;
+    if (admitObservation(*obs, options_, scan, stats_)) return true;
   }
 }
 

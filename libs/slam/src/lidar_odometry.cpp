@@ -105,27 +105,31 @@ bool LidarOdometry::needsKeyframe(const Eigen::Isometry3d& pose, const Alignment
 void LidarOdometry::addKeyframe(const Eigen::Isometry3d& pose, const PointCloud& points,
                                 OdometryStep& step) {
   const OdometryParams& o = params_.odometry;
-  const PointCloud near = withinRange(points, o.map_range);
-  const WeightedCloud fine = voxelise(near, o.keyframe_voxel);
+  WeightedCloud fine;
+  decimate(points, fine, step.keyframe_cloud);
   step.new_keyframe = true;
-  step.keyframe_cloud = voxelise(fine, o.map_voxel);
   last_keyframe_pose_ = pose;
   if (o.reference == 0) return;
-  recent_.push_back(RecentKeyframe{pose, fine});
+  recent_.push_back(RecentKeyframe{pose, std::move(fine)});
   const size_t keep = o.reference == 1 ? 1 : static_cast<size_t>(o.local_map_keyframes);
   while (recent_.size() > keep) recent_.pop_front();
   rebuildLocalMap();
 }
 
+void LidarOdometry::decimate(const PointCloud& points, WeightedCloud& fine,
+                             WeightedCloud& coarse) const {
+  const OdometryParams& o = params_.odometry;
+  fine = voxelise(withinRange(points, o.map_range), o.keyframe_voxel);
+  coarse = voxelise(fine, o.map_voxel);
+}
+
 void LidarOdometry::redoFirstKeyframe(OdometryStep& step) {
   // The first two scans were registered raw, so the velocity they give is consistent; with it
   // the first keyframe can now be deskewed like every later scan.
-  const PointCloud deskewed = dlo::deskew(first_points_, first_times_, velocity_);
-  const WeightedCloud fine =
-      voxelise(withinRange(deskewed, params_.odometry.map_range), params_.odometry.keyframe_voxel);
-  step.first_keyframe_cloud = voxelise(fine, params_.odometry.map_voxel);
+  WeightedCloud fine;
+  decimate(dlo::deskew(first_points_, first_times_, velocity_), fine, step.first_keyframe_cloud);
   if (params_.odometry.reference != 0 && !recent_.empty()) {
-    recent_.front().cloud = fine;
+    recent_.front().cloud = std::move(fine);
     rebuildLocalMap();
   }
   first_points_ = PointCloud();

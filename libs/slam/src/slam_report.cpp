@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "dlo/core/json_text.h"
 #include "dlo/metrics/absolute_trajectory_error.h"
 #include "dlo/metrics/kitti_drift.h"
 #include "dlo/metrics/timestamp_matching.h"
@@ -23,40 +24,11 @@ double percentile(std::vector<double> v, double q) {
 }
 
 std::string number(double x) {
-  if (!std::isfinite(x)) return "null";
-  std::ostringstream s;
-  s.precision(6);
-  s << x;
-  return s.str();
+  return jsonNumber(x, 6);
 }
 
 std::string quoted(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", c);
-          out += buf;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
+  return jsonString(text);
 }
 
 std::string stats(const std::vector<double>& v) {

@@ -2,6 +2,7 @@
 /// \brief A scan prepared for registration: grid pyramid, gradients, samplers, selected cells.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "dlo/core/cell_selection.h"
@@ -54,6 +55,10 @@ class HeightFrame {
   const StageTimes& buildTimes() const { return times_; }
 
  private:
+  /// Level 0 by `rasterise_finest` (into the centred geometry of `grid`), then buildLevels().
+  void buildWith(const std::function<void(HeightGrid&, const GridGeometry&)>& rasterise_finest,
+                 const HeightGridParams& grid, const SelectionParams& selection,
+                 bool include_ground);
   /// Levels 1.. from level 0, hole filling, gradients and selection on every level.
   void buildLevels(const SelectionParams& selection, bool include_ground);
 

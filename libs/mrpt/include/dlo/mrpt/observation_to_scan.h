@@ -41,4 +41,15 @@ ObservationConversion observationToTimedScan(mrpt::obs::CObservation& obs,
 /// \return one time per point of `obs.pointcloud` in seconds relative to obs.timestamp, or empty.
 std::vector<float> pointCloudObservationTimes(const mrpt::obs::CObservationPointCloud& obs);
 
+/// Short class name of a serializable ("CObservationOdometry", without the namespace).
+std::string shortClassName(const mrpt::serialization::CSerializable& object);
+
+/// What every ScanSource does with one observation: the sensor-label filter (before conversion:
+/// other sensors' observations may be costly to convert), observationToTimedScan(), and the
+/// counters of `stats` (skipped labels and classes with their reasons, dropped points, empty
+/// scans, scans).
+/// \return true when `scan` holds a non-empty scan to hand out.
+bool admitObservation(mrpt::obs::CObservation& obs, const ScanSourceOptions& options,
+                      TimedScan& scan, ScanSourceStats& stats);
+
 }  // namespace dlo

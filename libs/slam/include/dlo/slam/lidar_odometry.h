@@ -65,6 +65,9 @@ class LidarOdometry {
   void addKeyframe(const Eigen::Isometry3d& pose, const PointCloud& points, OdometryStep& step);
   void rebuildLocalMap();
   void redoFirstKeyframe(OdometryStep& step);
+  /// A keyframe's points within map_range, decimated for the local map (`fine`,
+  /// keyframe_voxel) and for the long-term map (`coarse`, map_voxel).
+  void decimate(const PointCloud& points, WeightedCloud& fine, WeightedCloud& coarse) const;
 
   SlamParams params_;
   DirectAligner aligner_;
