@@ -51,14 +51,17 @@ ExportReport exportAll(const SlamMap& map, const std::string& dir, const ExportO
   run("keyframes.graph", [&](const std::string& p) { exportPoseGraph(map, p); });
   run("map.simplemap", [&](const std::string& p) { exportSimpleMap(map, p); });
 
-  // The height grid needs every point, not the decimated map: mean heights stay exact.
+  // The height grid needs every point, not the decimated map: mean heights stay exact. The
+  // map cloud is decimated from the same world points rather than transformed again.
+  WeightedCloud world = worldCloud(map, 0.0);
   const mrpt::maps::CHeightGridMap2D grid =
-      toHeightGridMap(worldCloud(map, 0.0), options.heightmap_resolution, options.heightmap_margin);
+      toHeightGridMap(world, options.heightmap_resolution, options.heightmap_margin);
   run("heightmap.bin", [&](const std::string& p) { exportHeightGridMap(grid, p); });
   run("heightmap.png",
       [&](const std::string& p) { writePng(renderHeightMapImage(grid, map, options.image), p); });
 
-  const WeightedCloud cloud = worldCloud(map, options.map_voxel);
+  const WeightedCloud cloud =
+      options.map_voxel > 0.0 ? voxelise(world, options.map_voxel) : std::move(world);
   run("map.ply", [&](const std::string& p) { exportPly(cloud, p); });
   const auto scene = buildMapScene(map, cloud, options.scene);
   run("map.3Dscene", [&](const std::string& p) { exportScene(*scene, p); });

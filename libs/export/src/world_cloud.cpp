@@ -8,8 +8,8 @@ WeightedCloud worldCloud(const SlamMap& map, double voxel) {
   for (const Keyframe& kf : map.keyframes) total += kf.cloud.size();
   merged.reserve(total);
   for (const Keyframe& kf : map.keyframes) {
-    const WeightedCloud world = transformed(kf.cloud, kf.pose);
-    merged.insert(merged.end(), world.begin(), world.end());
+    const Eigen::Isometry3f T = kf.pose.cast<float>();
+    for (const WeightedPoint& w : kf.cloud) merged.push_back(WeightedPoint{T * w.p, w.n});
   }
   return voxel > 0.0 ? voxelise(merged, voxel) : merged;
 }
