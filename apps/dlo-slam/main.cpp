@@ -168,6 +168,7 @@ int run(const Arguments& args) {
     bar.update(++frames);
   }
   bar.finish(frames);
+  slam.sampleMemory();
   const bool interrupted = g_stop;
   const std::string input_error = source->stats().error;
   if (!input_error.empty()) std::cerr << "dlo-slam: warning: " << input_error << "\n";

@@ -1,7 +1,5 @@
 #include "dlo/slam/slam_report.h"
 
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -11,6 +9,7 @@
 #include "dlo/metrics/absolute_trajectory_error.h"
 #include "dlo/metrics/kitti_drift.h"
 #include "dlo/metrics/timestamp_matching.h"
+#include "dlo/slam/process_memory.h"
 
 namespace dlo {
 
@@ -98,12 +97,6 @@ SlamAccuracy evaluateAgainst(const SlamMap& map, const metrics::Trajectory& grou
   return a;
 }
 
-double peakMemoryMb() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
-}
-
 std::string slamReportJson(const SlamPipeline& pipeline, const std::string& input,
                            const std::string& config_ini,
                            const std::optional<SlamAccuracy>& accuracy, bool interrupted,
@@ -134,7 +127,19 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
   o << "],\n";
   o << "  \"degenerate_frames\": " << c.degenerate_frames << ",\n";
   o << "  \"empty_frames\": " << c.empty_frames << ",\n";
-  o << "  \"peak_memory_mb\": " << number(peakMemoryMb()) << ",\n";
+  // Peak of the whole run so far (processing and export); the samples show how resident memory
+  // evolved with the scans and how much of it the keyframes hold.
+  o << "  \"peak_memory_mb\": " << number(peakResidentMemoryMb()) << ",\n";
+  const std::vector<MemorySample>& mem = pipeline.memorySamples();
+  o << "  \"memory\": {\"unexplained_growth_kb_per_frame\": "
+    << number(unexplainedGrowthKbPerFrame(mem)) << ", \"samples\": [";
+  for (size_t i = 0; i < mem.size(); ++i) {
+    o << (i ? ",\n    " : "\n    ") << "{\"frame\": " << mem[i].frame
+      << ", \"resident_mb\": " << number(mem[i].resident_mb)
+      << ", \"keyframes\": " << mem[i].keyframes
+      << ", \"keyframe_mb\": " << number(mem[i].keyframe_mb) << "}";
+  }
+  o << "]},\n";
   o << "  \"interrupted\": " << (interrupted ? "true" : "false") << ",\n";
   o << "  \"input_error\": " << (input_error.empty() ? "null" : quoted(input_error)) << ",\n";
   if (accuracy) {

@@ -32,6 +32,20 @@ struct PipelineCounters {
   size_t optimisations = 0;
 };
 
+/// Resident memory at one point of a run, to show that it does not grow with the scans.
+struct MemorySample {
+  size_t frame = 0;          ///< scans processed so far
+  double resident_mb = 0.0;  ///< resident set size of the process (VmRSS)
+  size_t keyframes = 0;      ///< keyframes held at that point
+  double keyframe_mb = 0.0;  ///< what their clouds occupy: the part that may grow
+};
+
+/// Growth of the resident memory that the keyframes do not explain, KiB per scan: the
+/// least-squares slope of (resident_mb - keyframe_mb) over the samples after the first (which
+/// include start-up). 0 with fewer than three samples. A pipeline that kept anything per raw
+/// scan (a cloud, a grid) would show tens to hundreds of KiB per scan.
+double unexplainedGrowthKbPerFrame(const std::vector<MemorySample>& samples);
+
 /// Streams scans through odometry, keyframe creation, loop-closure search and verification, and
 /// pose-graph optimisation. Memory grows with the keyframes (decimated clouds), not with the
 /// scans.
@@ -50,6 +64,11 @@ class SlamPipeline {
   const PipelineTimings& timings() const { return timings_; }
   const PipelineCounters& counters() const { return counters_; }
   const SlamParams& params() const { return params_; }
+  /// Memory after the first scan, then every kMemorySampleInterval scans.
+  const std::vector<MemorySample>& memorySamples() const { return memory_; }
+  /// Takes a memory sample now (also done automatically; call it after the last scan).
+  void sampleMemory();
+  static constexpr size_t kMemorySampleInterval = 50;
 
   /// Verifies one loop candidate between two existing keyframes with the given guess (pose of
   /// `to` in `from`) and, if accepted, adds the edge and optimises. Exposed for tests and tools.
@@ -65,6 +84,7 @@ class SlamPipeline {
   SlamMap map_;
   PipelineTimings timings_;
   PipelineCounters counters_;
+  std::vector<MemorySample> memory_;
   std::vector<double> path_length_;             ///< metres travelled up to each keyframe
   std::vector<Eigen::Isometry3d> kf_odometry_;  ///< odometry-frame pose of each keyframe
   Eigen::Isometry3d last_odometry_ = Eigen::Isometry3d::Identity();

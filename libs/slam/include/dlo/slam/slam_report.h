@@ -34,9 +34,6 @@ metrics::Trajectory odometryTrajectory(const SlamMap& map);
 /// \throws std::runtime_error if fewer than 3 poses match.
 SlamAccuracy evaluateAgainst(const SlamMap& map, const metrics::Trajectory& ground_truth);
 
-/// Peak resident memory of this process, megabytes.
-double peakMemoryMb();
-
 /// Everything report.json holds, as JSON text.
 /// \param interrupted the run was stopped by a signal before the input ended.
 std::string slamReportJson(const SlamPipeline& pipeline, const std::string& input,

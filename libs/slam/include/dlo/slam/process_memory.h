@@ -2,7 +2,7 @@
 /// \brief Resident memory of this process, from /proc/self/status (Linux).
 #pragma once
 
-namespace dlo::bench {
+namespace dlo {
 
 /// Current resident set size (VmRSS), megabytes; 0 if unknown.
 double residentMemoryMb();
@@ -15,4 +15,4 @@ double peakResidentMemoryMb();
 /// a forked child measures its own peak, not its parent's. \return false if not supported.
 bool resetPeakMemory();
 
-}  // namespace dlo::bench
+}  // namespace dlo

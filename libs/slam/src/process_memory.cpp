@@ -1,4 +1,4 @@
-#include "dlo/bench/process_memory.h"
+#include "dlo/slam/process_memory.h"
 
 #include <sys/resource.h>
 
@@ -6,7 +6,7 @@
 #include <sstream>
 #include <string>
 
-namespace dlo::bench {
+namespace dlo {
 
 namespace {
 
@@ -45,4 +45,4 @@ bool resetPeakMemory() {
   return static_cast<bool>(out);
 }
 
-}  // namespace dlo::bench
+}  // namespace dlo
