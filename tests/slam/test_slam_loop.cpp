@@ -71,7 +71,7 @@ TEST_F(SimulatedLoop, ClosesTheLoopAndEndsWithinHalfAMetre) {
   EXPECT_LT(a.ate_rmse_after, a.ate_rmse_before + 0.02);
 }
 
-TEST_F(SimulatedLoop, ResidentMemoryGrowsOnlyWithTheKeyframes) {
+TEST_F(SimulatedLoop, ResidentMemoryStaysFlatWithOldKeyframesSpilled) {
 #if defined(__SANITIZE_ADDRESS__)
   GTEST_SKIP() << "AddressSanitizer's allocator keeps freed memory in quarantine: RSS says "
                   "nothing about the pipeline here";
@@ -82,20 +82,56 @@ TEST_F(SimulatedLoop, ResidentMemoryGrowsOnlyWithTheKeyframes) {
   ASSERT_GE(m.size(), 7u);
   EXPECT_EQ(m.front().frame, 1u);
   EXPECT_EQ(m.back().frame, 300u);
-  EXPECT_EQ(m.back().keyframes, slam_->map().keyframes.size());
-  EXPECT_GT(m.back().keyframe_mb, m[1].keyframe_mb);
+  const size_t keyframes = slam_->map().keyframes.size();
+  const size_t resident = static_cast<size_t>(SlamParams().odometry.resident_keyframes);
+  ASSERT_GT(keyframes, resident) << "the run must be long enough to spill";
+  EXPECT_EQ(m.back().keyframes, keyframes);
+  // Only the newest keyframes' clouds stay in memory (well under 1 MB each); the rest moved out.
+  EXPECT_LT(m.back().keyframe_mb, resident * 1.0);
+  EXPECT_GT(m.back().spilled_mb, 0.0);
   // Keeping anything per scan would show here: one raw HDL-64 scan is about 1.4 MB, its
   // 400 x 400 grid 0.6 MB, its decimated cloud 0.4 MB. Measured: a few KiB per scan (poses and
   // timings of every frame).
   EXPECT_LT(unexplainedGrowthKbPerFrame(m), 20.0);
 }
 
+TEST_F(SimulatedLoop, SpillingKeyframeCloudsChangesNoResult) {
+  SlamParams all_in_memory;
+  all_in_memory.odometry.resident_keyframes = 0;
+  SlamPipeline slam(all_in_memory);
+  RawlogScanSource source(rawlog(".rawlog"));
+  TimedScan scan;
+  while (source.next(scan)) slam.process(scan.timestampSeconds(), scan.points, scan.point_times);
+  const SlamMap& a = slam.map();
+  const SlamMap& b = slam_->map();
+  EXPECT_FALSE(a.spill);
+  ASSERT_TRUE(b.spill);
+  ASSERT_EQ(a.keyframes.size(), b.keyframes.size());
+  ASSERT_EQ(a.loop_candidates.size(), b.loop_candidates.size());
+  for (size_t i = 0; i < a.loop_candidates.size(); ++i)
+    EXPECT_EQ(a.loop_candidates[i].reason, b.loop_candidates[i].reason) << i;
+  WeightedCloud buffer_a, buffer_b;
+  size_t spilled = 0;
+  for (size_t i = 0; i < a.keyframes.size(); ++i) {
+    EXPECT_TRUE(a.keyframes[i].pose.isApprox(b.keyframes[i].pose, 1e-12)) << i;
+    spilled += b.keyframes[i].spilled ? 1 : 0;
+    const WeightedCloud& ca = a.keyframeCloud(i, buffer_a);
+    const WeightedCloud& cb = b.keyframeCloud(i, buffer_b);
+    ASSERT_EQ(ca.size(), cb.size()) << i;
+    for (size_t j = 0; j < ca.size(); ++j) {
+      ASSERT_EQ(ca[j].p, cb[j].p) << i << " " << j;
+      ASSERT_EQ(ca[j].n, cb[j].n) << i << " " << j;
+    }
+  }
+  EXPECT_EQ(spilled, b.keyframes.size() - SlamParams().odometry.resident_keyframes);
+}
+
 TEST(MemoryGrowth, IsTheSlopeOfWhatTheKeyframesDoNotExplain) {
   std::vector<MemorySample> m;
   // Start-up sample (ignored), then 1 MB of keyframes and 0.1 MB of other data per 100 scans.
-  m.push_back(MemorySample{1, 50.0, 1, 0.0});
+  m.push_back(MemorySample{1, 50.0, 1, 0.0, 0.0});
   for (size_t f = 100; f <= 500; f += 100)
-    m.push_back(MemorySample{f, 100.0 + 1.1 * f / 100.0, f / 10, 1.0 * f / 100.0});
+    m.push_back(MemorySample{f, 100.0 + 1.1 * f / 100.0, f / 10, 1.0 * f / 100.0, 0.0});
   EXPECT_NEAR(unexplainedGrowthKbPerFrame(m), 0.1 * 1024.0 / 100.0, 1e-9);
   EXPECT_EQ(unexplainedGrowthKbPerFrame({m[0], m[1]}), 0.0);
 }

@@ -18,13 +18,15 @@ std::uint64_t voxelKey(const Eigen::Vector3f& p, float inv_voxel) {
   return (axis(p.x()) << 42) | (axis(p.y()) << 21) | axis(p.z());
 }
 
+}  // namespace
+
 /// Voxel accumulator of an open-addressing hash table: linear probing over a power-of-two
 /// table at most half full, so a point costs a hash and a probe or two. Voxels come out in order
 /// of first occurrence, which is deterministic for a given input (no sort: sorting 120k keys
 /// per keyframe cost more than the rest of a keyframe together).
-class VoxelAccumulator {
+class detail::VoxelHash {
  public:
-  explicit VoxelAccumulator(size_t expected) {
+  explicit VoxelHash(size_t expected) {
     size_t size = 16;
     bits_ = 4;
     while (size < 2 * expected) {
@@ -96,6 +98,16 @@ class VoxelAccumulator {
   std::vector<Accum> sums_;
 };
 
+namespace {
+using VoxelAccumulator = detail::VoxelHash;
+
+/// Adds a weighted cloud to an accumulator (empty and non-finite points skipped).
+void addWeighted(VoxelAccumulator& acc, const WeightedCloud& points, float inv) {
+  for (const WeightedPoint& w : points) {
+    if (w.n == 0 || !w.p.allFinite()) continue;
+    acc.add(voxelKey(w.p, inv), w.p * static_cast<float>(w.n), w.n);
+  }
+}
 }  // namespace
 
 WeightedCloud voxelise(const PointCloud& points, double voxel) {
@@ -111,11 +123,22 @@ WeightedCloud voxelise(const PointCloud& points, double voxel) {
 WeightedCloud voxelise(const WeightedCloud& points, double voxel) {
   const float inv = static_cast<float>(1.0 / voxel);
   VoxelAccumulator acc(points.size() / 2 + 16);
-  for (const WeightedPoint& w : points) {
-    if (w.n == 0 || !w.p.allFinite()) continue;
-    acc.add(voxelKey(w.p, inv), w.p * static_cast<float>(w.n), w.n);
-  }
+  addWeighted(acc, points, inv);
   return acc.result();
+}
+
+VoxelMerger::VoxelMerger(double voxel)
+    : acc_(std::make_unique<detail::VoxelHash>(1024)),
+      inv_voxel_(static_cast<float>(1.0 / voxel)) {}
+
+VoxelMerger::~VoxelMerger() = default;
+
+void VoxelMerger::add(const WeightedCloud& cloud) {
+  addWeighted(*acc_, cloud, inv_voxel_);
+}
+
+WeightedCloud VoxelMerger::result() const {
+  return acc_->result();
 }
 
 WeightedCloud transformed(const WeightedCloud& cloud, const Eigen::Isometry3d& pose) {

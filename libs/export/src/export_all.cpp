@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <optional>
 
 #include "dlo/export/atomic_file.h"
 #include "dlo/export/height_map_export.h"
@@ -51,17 +52,29 @@ ExportReport exportAll(const SlamMap& map, const std::string& dir, const ExportO
   run("keyframes.graph", [&](const std::string& p) { exportPoseGraph(map, p); });
   run("map.simplemap", [&](const std::string& p) { exportSimpleMap(map, p); });
 
-  // The height grid needs every point, not the decimated map: mean heights stay exact. The
-  // map cloud is decimated from the same world points rather than transformed again.
-  WeightedCloud world = worldCloud(map, 0.0);
-  const mrpt::maps::CHeightGridMap2D grid =
-      toHeightGridMap(world, options.heightmap_resolution, options.heightmap_margin);
+  // The height grid needs every point, not the decimated map: mean heights stay exact. Both it
+  // and the map cloud are fed one keyframe at a time (bounds first, then sums and voxels), so a
+  // long run's export holds one keyframe cloud and the merged voxels, not every keyframe.
+  HeightGridAccumulator heights(options.heightmap_resolution, options.heightmap_margin);
+  forEachWorldCloud(map, [&](const WeightedCloud& c) { heights.extend(c); });
+  std::optional<VoxelMerger> voxels;
+  if (options.map_voxel > 0.0) voxels.emplace(options.map_voxel);
+  WeightedCloud cloud;  // undecimated map when map_voxel <= 0
+  forEachWorldCloud(map, [&](const WeightedCloud& c) {
+    heights.add(c);
+    if (voxels) {
+      voxels->add(c);
+    } else {
+      cloud.insert(cloud.end(), c.begin(), c.end());
+    }
+  });
+  if (voxels) cloud = voxels->result();
+  voxels.reset();
+  const mrpt::maps::CHeightGridMap2D grid = heights.grid();
   run("heightmap.bin", [&](const std::string& p) { exportHeightGridMap(grid, p); });
   run("heightmap.png",
       [&](const std::string& p) { writePng(renderHeightMapImage(grid, map, options.image), p); });
 
-  const WeightedCloud cloud =
-      options.map_voxel > 0.0 ? voxelise(world, options.map_voxel) : std::move(world);
   run("map.ply", [&](const std::string& p) { exportPly(cloud, p); });
   const auto scene = buildMapScene(map, cloud, options.scene);
   run("map.3Dscene", [&](const std::string& p) { exportScene(*scene, p); });

@@ -12,24 +12,31 @@
 
 namespace dlo {
 
-mrpt::maps::CHeightGridMap2D toHeightGridMap(const WeightedCloud& world_points, double resolution,
-                                             double margin) {
-  double x_min = std::numeric_limits<double>::infinity(), y_min = x_min;
-  double x_max = -x_min, y_max = -x_min;
-  for (const WeightedPoint& wp : world_points) {
-    x_min = std::min<double>(x_min, wp.p.x());
-    x_max = std::max<double>(x_max, wp.p.x());
-    y_min = std::min<double>(y_min, wp.p.y());
-    y_max = std::max<double>(y_max, wp.p.y());
-  }
-  if (world_points.empty()) x_min = x_max = y_min = y_max = 0.0;
-  mrpt::maps::CHeightGridMap2D grid(mrpt::maps::CHeightGridMap2D::mrSimpleAverage, x_min - margin,
-                                    x_max + margin, y_min - margin, y_max + margin, resolution);
+HeightGridAccumulator::HeightGridAccumulator(double resolution, double margin)
+    : resolution_(resolution), margin_(margin) {}
 
-  // Sums in double: a cell can gather thousands of points, float sums of z^2 would drift.
-  const size_t cells = grid.getSizeX() * grid.getSizeY();
-  std::vector<double> sum(cells, 0.0), sum_sq(cells, 0.0);
-  std::vector<std::uint64_t> count(cells, 0);
+void HeightGridAccumulator::extend(const WeightedCloud& world_points) {
+  for (const WeightedPoint& wp : world_points) {
+    x_min_ = std::min<double>(x_min_, wp.p.x());
+    x_max_ = std::max<double>(x_max_, wp.p.x());
+    y_min_ = std::min<double>(y_min_, wp.p.y());
+    y_max_ = std::max<double>(y_max_, wp.p.y());
+  }
+}
+
+void HeightGridAccumulator::allocate() {
+  if (x_min_ > x_max_) x_min_ = x_max_ = y_min_ = y_max_ = 0.0;  // nothing seen
+  grid_.emplace(mrpt::maps::CHeightGridMap2D::mrSimpleAverage, x_min_ - margin_, x_max_ + margin_,
+                y_min_ - margin_, y_max_ + margin_, resolution_);
+  const size_t cells = grid_->getSizeX() * grid_->getSizeY();
+  sum_.assign(cells, 0.0);
+  sum_sq_.assign(cells, 0.0);
+  count_.assign(cells, 0);
+}
+
+void HeightGridAccumulator::add(const WeightedCloud& world_points) {
+  if (!grid_) allocate();
+  const mrpt::maps::CHeightGridMap2D& grid = *grid_;
   for (const WeightedPoint& wp : world_points) {
     const int cx = grid.x2idx(wp.p.x()), cy = grid.y2idx(wp.p.y());
     if (cx < 0 || cy < 0 || cx >= static_cast<int>(grid.getSizeX()) ||
@@ -38,26 +45,39 @@ mrpt::maps::CHeightGridMap2D toHeightGridMap(const WeightedCloud& world_points, 
     }
     const size_t i = static_cast<size_t>(cy) * grid.getSizeX() + static_cast<size_t>(cx);
     const double n = wp.n, z = wp.p.z();
-    sum[i] += n * z;
-    sum_sq[i] += n * z * z;
-    count[i] += wp.n;
+    sum_[i] += n * z;
+    sum_sq_[i] += n * z * z;
+    count_[i] += wp.n;
   }
+}
+
+mrpt::maps::CHeightGridMap2D HeightGridAccumulator::grid() {
+  if (!grid_) allocate();
+  mrpt::maps::CHeightGridMap2D& grid = *grid_;
   for (size_t cy = 0; cy < grid.getSizeY(); ++cy) {
     for (size_t cx = 0; cx < grid.getSizeX(); ++cx) {
       const size_t i = cy * grid.getSizeX() + cx;
-      if (count[i] == 0) continue;
+      if (count_[i] == 0) continue;
       mrpt::maps::THeightGridmapCell* cell = grid.cellByIndex(cx, cy);
-      const double w = static_cast<double>(count[i]);
-      cell->w = static_cast<std::uint32_t>(std::min<std::uint64_t>(count[i], UINT32_MAX));
-      cell->u = static_cast<float>(sum[i]);
-      cell->v = static_cast<float>(sum_sq[i]);
-      cell->h = static_cast<float>(sum[i] / w);
+      const double w = static_cast<double>(count_[i]);
+      cell->w = static_cast<std::uint32_t>(std::min<std::uint64_t>(count_[i], UINT32_MAX));
+      cell->u = static_cast<float>(sum_[i]);
+      cell->v = static_cast<float>(sum_sq_[i]);
+      cell->h = static_cast<float>(sum_[i] / w);
       cell->var =
-          w > 1 ? static_cast<float>(std::max(0.0, (sum_sq[i] - sum[i] * sum[i] / w) / (w - 1)))
+          w > 1 ? static_cast<float>(std::max(0.0, (sum_sq_[i] - sum_[i] * sum_[i] / w) / (w - 1)))
                 : 0.0f;
     }
   }
   return grid;
+}
+
+mrpt::maps::CHeightGridMap2D toHeightGridMap(const WeightedCloud& world_points, double resolution,
+                                             double margin) {
+  HeightGridAccumulator acc(resolution, margin);
+  acc.extend(world_points);
+  acc.add(world_points);
+  return acc.grid();
 }
 
 void exportHeightGridMap(const mrpt::maps::CHeightGridMap2D& grid, const std::string& path) {

@@ -12,10 +12,13 @@ namespace dlo {
 
 mrpt::maps::CSimpleMap toSimpleMap(const SlamMap& map) {
   mrpt::maps::CSimpleMap out;
-  for (const Keyframe& kf : map.keyframes) {
+  WeightedCloud buffer;
+  for (size_t i = 0; i < map.keyframes.size(); ++i) {
+    const Keyframe& kf = map.keyframes[i];
+    const WeightedCloud& cloud = map.keyframeCloud(i, buffer);
     auto points = mrpt::maps::CSimplePointsMap::Create();
-    points->reserve(kf.cloud.size());
-    for (const WeightedPoint& wp : kf.cloud) points->insertPoint(wp.p.x(), wp.p.y(), wp.p.z());
+    points->reserve(cloud.size());
+    for (const WeightedPoint& wp : cloud) points->insertPoint(wp.p.x(), wp.p.y(), wp.p.z());
     auto obs = mrpt::obs::CObservationPointCloud::Create();
     obs->sensorLabel = "LIDAR";
     obs->timestamp = mrpt::Clock::fromDouble(kf.time);

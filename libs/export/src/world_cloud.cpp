@@ -2,16 +2,28 @@
 
 namespace dlo {
 
-WeightedCloud worldCloud(const SlamMap& map, double voxel) {
-  WeightedCloud merged;
-  size_t total = 0;
-  for (const Keyframe& kf : map.keyframes) total += kf.cloud.size();
-  merged.reserve(total);
-  for (const Keyframe& kf : map.keyframes) {
-    const Eigen::Isometry3f T = kf.pose.cast<float>();
-    for (const WeightedPoint& w : kf.cloud) merged.push_back(WeightedPoint{T * w.p, w.n});
+void forEachWorldCloud(const SlamMap& map,
+                       const std::function<void(const WeightedCloud& world_points)>& visit) {
+  WeightedCloud buffer, world;
+  for (size_t i = 0; i < map.keyframes.size(); ++i) {
+    const WeightedCloud& cloud = map.keyframeCloud(i, buffer);
+    const Eigen::Isometry3f T = map.keyframes[i].pose.cast<float>();
+    world.resize(cloud.size());
+    for (size_t j = 0; j < cloud.size(); ++j) world[j] = WeightedPoint{T * cloud[j].p, cloud[j].n};
+    visit(world);
   }
-  return voxel > 0.0 ? voxelise(merged, voxel) : merged;
+}
+
+WeightedCloud worldCloud(const SlamMap& map, double voxel) {
+  if (voxel > 0.0) {
+    VoxelMerger merged(voxel);
+    forEachWorldCloud(map, [&](const WeightedCloud& c) { merged.add(c); });
+    return merged.result();
+  }
+  WeightedCloud all;
+  forEachWorldCloud(map,
+                    [&](const WeightedCloud& c) { all.insert(all.end(), c.begin(), c.end()); });
+  return all;
 }
 
 }  // namespace dlo

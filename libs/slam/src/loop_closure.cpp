@@ -61,16 +61,19 @@ std::vector<int> LoopCloser::candidates(const SlamMap& map, int newest,
   return out;
 }
 
-LoopCandidate LoopCloser::verify(const Keyframe& from, const Keyframe& to,
+LoopCandidate LoopCloser::verify(const SlamMap& map, int from_id, int to_id,
                                  const Eigen::Isometry3d& guess, PoseEdge& edge) const {
   const LoopParams& l = params_.loop;
   LoopCandidate c;
-  c.from = from.id;
-  c.to = to.id;
+  c.from = from_id;
+  c.to = to_id;
+  WeightedCloud from_buffer, to_buffer;
+  const WeightedCloud& from_cloud = map.keyframeCloud(static_cast<size_t>(from_id), from_buffer);
+  const WeightedCloud& to_cloud = map.keyframeCloud(static_cast<size_t>(to_id), to_buffer);
   const bool ground = grid_.includeGround();
   HeightFrame ref, cur, ref_coarse, cur_coarse;
-  ref.build(from.cloud, Eigen::Isometry3d::Identity(), grid_.grid, grid_.selection, ground);
-  cur.build(to.cloud, Eigen::Isometry3d::Identity(), grid_.grid, grid_.selection, ground);
+  ref.build(from_cloud, Eigen::Isometry3d::Identity(), grid_.grid, grid_.selection, ground);
+  cur.build(to_cloud, Eigen::Isometry3d::Identity(), grid_.grid, grid_.selection, ground);
   if (ref.empty() || cur.empty()) {
     c.reason = "empty keyframe cloud";
     return c;
@@ -81,9 +84,9 @@ LoopCandidate LoopCloser::verify(const Keyframe& from, const Keyframe& to,
   coarse.grid.resolution = kSearchResolution;
   coarse.grid.cols = coarse.grid.rows = static_cast<int>(std::lround(l.window / kSearchResolution));
   coarse.grid.levels = 1;
-  ref_coarse.build(from.cloud, Eigen::Isometry3d::Identity(), coarse.grid, coarse.selection,
+  ref_coarse.build(from_cloud, Eigen::Isometry3d::Identity(), coarse.grid, coarse.selection,
                    ground);
-  cur_coarse.build(to.cloud, Eigen::Isometry3d::Identity(), coarse.grid, coarse.selection, ground);
+  cur_coarse.build(to_cloud, Eigen::Isometry3d::Identity(), coarse.grid, coarse.selection, ground);
   const DirectAligner coarse_aligner(coarse.solver);
   struct Basin {
     Eigen::Isometry3d pose;
@@ -158,8 +161,8 @@ LoopCandidate LoopCloser::verify(const Keyframe& from, const Keyframe& to,
     c.reason = "accepted";
   }
   if (c.accepted) {
-    edge.from = from.id;
-    edge.to = to.id;
+    edge.from = from_id;
+    edge.to = to_id;
     edge.relative = r.pose;
     edge.information =
         edgeInformation(r.pose, r.covariance, l.min_sigma_xy, l.min_sigma_angle * kDeg);

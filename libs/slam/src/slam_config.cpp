@@ -34,6 +34,9 @@ std::vector<ParamField<SlamParams>> fields() {
                  "metres; keyframe points farther than this from the vehicle are not kept"),
       paramField("odometry", "deskew", &S::odometry, &O::deskew,
                  "1: undo motion distortion when the points carry per-point times; 0: off"),
+      paramField("odometry", "resident_keyframes", &S::odometry, &O::resident_keyframes,
+                 "keyframe clouds kept in memory; older ones wait in a temporary file until "
+                 "loop closure or export reads them (flat memory on long runs); 0: all in memory"),
       paramField("loop", "enabled", &S::loop, &L::enabled, "1: search and close loops; 0: off"),
       paramField("loop", "search_radius", &S::loop, &L::search_radius,
                  "metres between keyframe positions for a loop candidate"),

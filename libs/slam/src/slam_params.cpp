@@ -24,6 +24,9 @@ std::string SlamParams::validate() const {
     return outOfRange("odometry.map_voxel", o.map_voxel, "(0, 5] metres");
   if (!(o.map_range > 1.0)) return outOfRange("odometry.map_range", o.map_range, "> 1 metre");
   if (o.deskew != 0 && o.deskew != 1) return outOfRange("odometry.deskew", o.deskew, "0 or 1");
+  if (!(o.resident_keyframes >= 0))
+    return outOfRange("odometry.resident_keyframes", o.resident_keyframes,
+                      "0 (all in memory) or more keyframes");
   const LoopParams& l = loop;
   if (l.enabled != 0 && l.enabled != 1) return outOfRange("loop.enabled", l.enabled, "0 or 1");
   if (!(l.search_radius > 0.0))

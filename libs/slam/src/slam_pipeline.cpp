@@ -31,7 +31,10 @@ void SlamPipeline::process(double time, const PointCloud& points,
   last_odometry_ = step.pose;
 
   if (!step.first_keyframe_cloud.empty() && !map_.keyframes.empty()) {
-    map_.keyframes.front().cloud = step.first_keyframe_cloud;
+    Keyframe& first = map_.keyframes.front();
+    first.cloud = step.first_keyframe_cloud;
+    first.spilled = false;  // its old slot in the spill file is left unused
+    spillOldKeyframes();
   }
   Stopwatch loop_watch;
   if (step.new_keyframe || map_.keyframes.empty()) addKeyframe(time, step);
@@ -72,9 +75,9 @@ void SlamPipeline::sampleMemory() {
   m.frame = counters_.frames;
   m.resident_mb = residentMemoryMb();
   m.keyframes = map_.keyframes.size();
-  size_t bytes = 0;
-  for (const Keyframe& k : map_.keyframes) bytes += k.cloud.capacity() * sizeof(WeightedPoint);
-  m.keyframe_mb = static_cast<double>(bytes) / (1024.0 * 1024.0);
+  constexpr double kMb = 1024.0 * 1024.0;
+  m.keyframe_mb = static_cast<double>(map_.residentCloudBytes()) / kMb;
+  m.spilled_mb = map_.spill ? static_cast<double>(map_.spill->bytes()) / kMb : 0.0;
   memory_.push_back(m);
 }
 
@@ -116,9 +119,18 @@ void SlamPipeline::addKeyframe(double time, const OdometryStep& step) {
     map_.edges.push_back(e);
   }
   map_.keyframes.push_back(std::move(k));
+  spillOldKeyframes();
   kf_odometry_.push_back(step.pose);
   path_length_.push_back(travelled_);
   if (params_.loop.enabled != 0) searchLoops(static_cast<int>(map_.keyframes.size()) - 1);
+}
+
+void SlamPipeline::spillOldKeyframes() {
+  const size_t resident = static_cast<size_t>(params_.odometry.resident_keyframes);
+  if (resident == 0) return;
+  for (size_t i = 0; i + resident < map_.keyframes.size(); ++i) {
+    if (!map_.keyframes[i].spilled) map_.spillKeyframeCloud(i);
+  }
 }
 
 void SlamPipeline::searchLoops(int newest) {
@@ -139,7 +151,7 @@ void SlamPipeline::searchLoops(int newest) {
 
 LoopCandidate SlamPipeline::tryLoop(int from, int to, const Eigen::Isometry3d& guess) {
   PoseEdge edge;
-  LoopCandidate c = loops_.verify(map_.keyframes[from], map_.keyframes[to], guess, edge);
+  LoopCandidate c = loops_.verify(map_, from, to, guess, edge);
   map_.loop_candidates.push_back(c);
   if (c.accepted) {
     ++counters_.loops_accepted;

@@ -137,7 +137,8 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
     o << (i ? ",\n    " : "\n    ") << "{\"frame\": " << mem[i].frame
       << ", \"resident_mb\": " << number(mem[i].resident_mb)
       << ", \"keyframes\": " << mem[i].keyframes
-      << ", \"keyframe_mb\": " << number(mem[i].keyframe_mb) << "}";
+      << ", \"keyframe_mb\": " << number(mem[i].keyframe_mb)
+      << ", \"spilled_mb\": " << number(mem[i].spilled_mb) << "}";
   }
   o << "]},\n";
   o << "  \"interrupted\": " << (interrupted ? "true" : "false") << ",\n";

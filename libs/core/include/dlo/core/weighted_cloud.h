@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "dlo/core/point_cloud.h"
@@ -35,6 +36,30 @@ WeightedCloud voxelise(const PointCloud& points, double voxel);
 /// Re-voxelises a weighted cloud (weights add, centroids are weighted means), e.g. to keep a
 /// coarser long-term copy or to merge clouds expressed in one frame.
 WeightedCloud voxelise(const WeightedCloud& points, double voxel);
+
+namespace detail {
+class VoxelHash;  ///< the open-addressing voxel table behind voxelise() and VoxelMerger
+}  // namespace detail
+
+/// Merges weighted clouds into voxels one cloud at a time, e.g. every keyframe of a long run
+/// into one map cloud: memory grows with the voxels occupied, not with the clouds added. The
+/// result equals voxelise() of all clouds concatenated (voxels in order of first occurrence).
+class VoxelMerger {
+ public:
+  /// \param voxel side in metres, > 0.
+  explicit VoxelMerger(double voxel);
+  ~VoxelMerger();
+  VoxelMerger(const VoxelMerger&) = delete;
+  VoxelMerger& operator=(const VoxelMerger&) = delete;
+  /// Adds every point of `cloud` (weights add, centroids are weighted means).
+  void add(const WeightedCloud& cloud);
+  /// The merged voxels so far.
+  WeightedCloud result() const;
+
+ private:
+  std::unique_ptr<detail::VoxelHash> acc_;
+  float inv_voxel_;
+};
 
 /// Applies a rigid transform to every centroid.
 WeightedCloud transformed(const WeightedCloud& cloud, const Eigen::Isometry3d& pose);

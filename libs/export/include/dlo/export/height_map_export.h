@@ -3,7 +3,11 @@
 #pragma once
 
 #include <mrpt/maps/CHeightGridMap2D.h>
+#include <cstdint>
+#include <limits>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "dlo/core/weighted_cloud.h"
 #include "dlo/slam/slam_map.h"
@@ -18,6 +22,30 @@ namespace dlo {
 /// An empty cloud gives a single-cell map with no observed cell.
 mrpt::maps::CHeightGridMap2D toHeightGridMap(const WeightedCloud& world_points, double resolution,
                                              double margin);
+
+/// toHeightGridMap() over clouds given one at a time (e.g. keyframe by keyframe with
+/// forEachWorldCloud()), so that the points never need to be in memory together: first
+/// extend() with every cloud (bounds), then add() every cloud (sums), then grid().
+class HeightGridAccumulator {
+ public:
+  HeightGridAccumulator(double resolution, double margin);
+  /// First pass: widens the bounds to cover `world_points`.
+  void extend(const WeightedCloud& world_points);
+  /// Second pass: adds the points to the cells (the grid is sized by the first call).
+  void add(const WeightedCloud& world_points);
+  /// The finished grid (cells with mean, sums and variance as toHeightGridMap() describes).
+  mrpt::maps::CHeightGridMap2D grid();
+
+ private:
+  void allocate();
+  double resolution_, margin_;
+  double x_min_ = std::numeric_limits<double>::infinity(), y_min_ = x_min_;
+  double x_max_ = -x_min_, y_max_ = -x_min_;
+  std::optional<mrpt::maps::CHeightGridMap2D> grid_;
+  // Sums in double: a cell can gather thousands of points, float sums of z^2 would drift.
+  std::vector<double> sum_, sum_sq_;
+  std::vector<std::uint64_t> count_;
+};
 
 /// Serialises `grid` (usually toHeightGridMap() of worldCloud()) with
 /// mrpt::io::CFileGZOutputStream and archiveFrom(...) << grid, atomically; read it back with

@@ -23,9 +23,10 @@ class LoopCloser {
   std::vector<int> candidates(const SlamMap& map, int newest,
                               const std::vector<double>& path_length) const;
 
-  /// Registers keyframe `to`'s cloud against keyframe `from`'s, starting at `guess` (pose of
-  /// `to` in `from`), and checks the result. On acceptance `edge` holds the loop edge.
-  LoopCandidate verify(const Keyframe& from, const Keyframe& to, const Eigen::Isometry3d& guess,
+  /// Registers keyframe `to`'s cloud against keyframe `from`'s (both of `map`, read back from
+  /// its spill file if they left memory), starting at `guess` (pose of `to` in `from`), and
+  /// checks the result. On acceptance `edge` holds the loop edge.
+  LoopCandidate verify(const SlamMap& map, int from, int to, const Eigen::Isometry3d& guess,
                        PoseEdge& edge) const;
 
  private:

@@ -3,11 +3,13 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "dlo/core/rigid_transform.h"
 #include "dlo/core/weighted_cloud.h"
+#include "dlo/slam/cloud_spill.h"
 
 namespace dlo {
 
@@ -20,7 +22,10 @@ struct Keyframe {
   /// close.
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   /// Deskewed points of the scan, vehicle frame, voxel-decimated with counts (long-term copy).
+  /// Empty once `spilled`: then SlamMap::keyframeCloud() reads it back.
   WeightedCloud cloud;
+  bool spilled = false;  ///< the cloud lies in SlamMap::spill at `slot`
+  CloudSlot slot;
 };
 
 /// One processed scan.
@@ -66,10 +71,20 @@ struct SlamMap {
   std::vector<PoseEdge> edges;
   std::vector<LoopCandidate> loop_candidates;
 
+  /// Keyframe clouds moved out of memory (shared by copies of the map; created on first use).
+  std::shared_ptr<CloudSpill> spill;
+
   /// World pose of frame i.
   Eigen::Isometry3d framePose(size_t i) const {
     return keyframes[frames[i].keyframe].pose * frames[i].relative;
   }
+  /// The cloud of keyframe i: the keyframe's own when in memory, otherwise read from the spill
+  /// file into `buffer`. The reference is valid until `buffer` or the keyframe changes.
+  const WeightedCloud& keyframeCloud(size_t i, WeightedCloud& buffer) const;
+  /// Moves keyframe i's cloud to the spill file and frees its memory (no-op if already there).
+  void spillKeyframeCloud(size_t i);
+  /// Bytes of keyframe clouds held in memory.
+  size_t residentCloudBytes() const;
 };
 
 }  // namespace dlo

@@ -22,6 +22,10 @@ struct OdometryParams {
   double map_voxel = 0.2;          ///< metres; decimation of keyframe clouds kept for the map
   double map_range = 40.0;         ///< metres; keyframe points farther than this are not kept
   int deskew = 1;                  ///< 1: undo motion distortion when points carry times
+  /// Keyframe clouds kept in memory; older ones move to a temporary file and are read back
+  /// when a loop closure or the export needs them, so memory stays flat on long runs. 0: all
+  /// stay in memory.
+  int resident_keyframes = 50;
 };
 
 /// Loop closure (INI section [loop]).

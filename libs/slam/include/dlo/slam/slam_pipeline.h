@@ -37,7 +37,8 @@ struct MemorySample {
   size_t frame = 0;          ///< scans processed so far
   double resident_mb = 0.0;  ///< resident set size of the process (VmRSS)
   size_t keyframes = 0;      ///< keyframes held at that point
-  double keyframe_mb = 0.0;  ///< what their clouds occupy: the part that may grow
+  double keyframe_mb = 0.0;  ///< what their clouds occupy in memory: the part that may grow
+  double spilled_mb = 0.0;   ///< keyframe clouds moved to the temporary file (not resident)
 };
 
 /// Growth of the resident memory that the keyframes do not explain, KiB per scan: the
@@ -77,6 +78,8 @@ class SlamPipeline {
  private:
   void addKeyframe(double time, const OdometryStep& step);
   void searchLoops(int newest);
+  /// Moves the clouds of all but the newest resident_keyframes keyframes to the spill file.
+  void spillOldKeyframes();
 
   SlamParams params_;
   LidarOdometry odometry_;
