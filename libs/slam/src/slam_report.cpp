@@ -114,7 +114,7 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
     << ", \"loop_closure\": " << stats(t.loop) << "},\n";
   o << "  \"loop_closures\": {\"accepted\": " << c.loops_accepted
     << ", \"rejected\": " << c.loops_rejected << ", \"optimisations\": " << c.optimisations
-    << "},\n";
+    << ", \"already_consistent\": " << c.loops_consistent << "},\n";
   // The verdict on every candidate (capped), so that a user can see why a loop did not close.
   constexpr size_t kMaxCandidates = 500;
   o << "  \"loop_candidates\": [";

@@ -30,6 +30,8 @@ struct PipelineCounters {
   size_t loops_accepted = 0;
   size_t loops_rejected = 0;
   size_t optimisations = 0;
+  /// accepted loops the graph already satisfied: edge added, no optimisation needed
+  size_t loops_consistent = 0;
 };
 
 /// Resident memory at one point of a run, to show that it does not grow with the scans.
