@@ -16,6 +16,7 @@
 #include "dlo/mrpt/app_main.h"
 #include "dlo/mrpt/command_line.h"
 #include "dlo/mrpt/input_error.h"
+#include "dlo/mrpt/kitti_scan_source.h"
 #include "dlo/mrpt/progress_bar.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 #include "dlo/mrpt/velodyne_pcap_reader.h"
@@ -45,8 +46,11 @@ writes, into DIR (created if needed), each file atomically:
 
 Input:
   IN.rawlog / IN.rawlog.gz   MRPT rawlog, either layout: Velodyne scans, point clouds, 3D range
-                             scans (convert KITTI folders with dlo-kitti2rawlog);
-  IN.pcap                    Velodyne capture; needs --model.
+                             scans;
+  IN.pcap                    Velodyne capture; needs --model;
+  KITTI folder               a KITTI odometry sequence (velodyne/*.bin[.gz], times.txt, and
+                             optionally poses.txt + calib.txt, then used as --gt unless given);
+                             points stay in the LiDAR frame.
 
 Options:
   --config FILE        MRPT INI with [grid] [selection] [solver] [odometry] [loop]; see
@@ -126,8 +130,7 @@ std::unique_ptr<dlo::ScanSource> openSource(const Arguments& a) {
                                                          options);
   }
   if (std::filesystem::is_directory(a.input)) {
-    throw dlo::InputError("input '" + a.input +
-                          "' is a folder: convert a KITTI sequence with dlo-kitti2rawlog first.");
+    return std::make_unique<dlo::KittiScanSource>(a.input, options);
   }
   return std::make_unique<dlo::RawlogScanSource>(a.input, options);
 }
@@ -150,6 +153,20 @@ int run(const Arguments& args) {
   }
   // The input is opened first, so that a wrong path leaves no empty output folder behind.
   std::unique_ptr<dlo::ScanSource> source = openSource(args);
+  if (const auto* kitti = dynamic_cast<const dlo::KittiScanSource*>(source.get());
+      kitti && !ground_truth && !kitti->sequence().lidar_poses.empty()) {
+    // A KITTI folder brings its own ground truth: poses.txt, in the LiDAR frame (calib.txt).
+    const dlo::KittiSequence& s = kitti->sequence();
+    ground_truth.emplace();
+    for (size_t i = 0; i < s.lidar_poses.size(); ++i)
+      ground_truth->push_back(s.times[i], s.lidar_poses[i]);
+    if (!args.quiet) {
+      std::cerr << "dlo-slam: ground truth from the folder's poses.txt"
+                << (s.poses_from_camera_frame ? " (camera poses moved to the LiDAR with calib.txt)"
+                                              : "")
+                << ".\n";
+    }
+  }
   std::error_code ec;
   std::filesystem::create_directories(args.out, ec);
   if (!std::filesystem::is_directory(args.out)) {

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "dlo/mrpt/input_error.h"
+#include "dlo/mrpt/kitti_scan_source.h"
 #include "dlo/slam/slam_config.h"
 
 namespace dlo {
@@ -100,6 +101,54 @@ TEST(DloSlamCommandLine, AFileThatIsNotARawlogIsNamed) {
   const CliRun r = dloSlam("--input " + bogus.string() + " --out /tmp/dlo_slam_cli_out");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find(bogus.string()), std::string::npos) << r.err;
+}
+
+const std::string kKittiCity = std::string(DLO_SHARED_DATA_DIR) + "/kitti_city_seq";
+
+TEST(DloSlamCommandLine, ReadsAKittiFolderDirectly) {
+  const fs::path out = fs::temp_directory_path() / "dlo_slam_kitti_folder_out";
+  fs::remove_all(out);
+  const CliRun r = dloSlam("--input " + kKittiCity + " --out " + out.string() + " --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream tum(out / "trajectory.tum");
+  std::string line;
+  size_t poses = 0;
+  while (std::getline(tum, line)) poses += (!line.empty() && line[0] != '#') ? 1 : 0;
+  EXPECT_EQ(poses, 22u);  // one per scan of the folder
+  fs::remove_all(out);
+}
+
+TEST(DloSlamCommandLine, AFolderWithoutScansIsNamed) {
+  const fs::path empty = fs::temp_directory_path() / "dlo_slam_empty_kitti_folder";
+  fs::create_directories(empty);
+  const CliRun r = dloSlam("--input " + empty.string() + " --out /tmp/dlo_slam_cli_out");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find(empty.string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(".bin"), std::string::npos) << r.err;
+}
+
+TEST(KittiScanSource, StopsAtACorruptScanNamingItAndKeepsTheScansBefore) {
+  const fs::path dir = fs::temp_directory_path() / "dlo_kitti_source_corrupt";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "velodyne");
+  fs::copy_file(kKittiCity + "/000000.bin.gz", dir / "velodyne" / "000000.bin.gz");
+  fs::copy_file(kKittiCity + "/000001.bin.gz", dir / "velodyne" / "000001.bin.gz");
+  std::ofstream(dir / "velodyne" / "000002.bin") << "not 16-byte records";
+  std::ofstream(dir / "times.txt") << "0.0\n0.1\n0.2\n";
+  ScanSourceOptions options;
+  options.min_range = 2.0;
+  KittiScanSource source(dir.string(), options);
+  TimedScan scan;
+  ASSERT_TRUE(source.next(scan));
+  EXPECT_GT(scan.points.size(), 100000u);
+  EXPECT_GT(scan.dropped_by_range, 0u);
+  EXPECT_TRUE(scan.point_times.empty());
+  ASSERT_TRUE(source.next(scan));
+  EXPECT_DOUBLE_EQ(scan.timestampSeconds(), 0.1);
+  EXPECT_FALSE(source.next(scan));
+  EXPECT_EQ(source.stats().scans, 2u);
+  EXPECT_NE(source.stats().error.find("000002.bin"), std::string::npos) << source.stats().error;
+  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -119,20 +119,20 @@ KittiSequence readKittiSequence(const std::string& dir) {
   if (!fs::is_directory(dir)) {
     throw InputError("KITTI sequence folder '" + dir + "' does not exist or is not a folder.");
   }
+  // KITTI's layout keeps the scans in velodyne/; a plain folder of scans is accepted too.
   const fs::path velodyne = fs::path(dir) / "velodyne";
-  if (!fs::is_directory(velodyne)) {
-    throw InputError("KITTI sequence folder '" + dir +
-                     "' has no velodyne/ folder (expected velodyne/000000.bin, ...).");
-  }
+  const fs::path scans = fs::is_directory(velodyne) ? velodyne : fs::path(dir);
   KittiSequence seq;
-  for (const auto& entry : fs::directory_iterator(velodyne)) {
+  for (const auto& entry : fs::directory_iterator(scans)) {
     if (entry.is_regular_file() && isScanFile(entry.path())) {
       seq.scan_files.push_back(entry.path().string());
     }
   }
   std::sort(seq.scan_files.begin(), seq.scan_files.end());
   if (seq.scan_files.empty()) {
-    throw InputError("folder '" + velodyne.string() + "' holds no .bin or .bin.gz scan.");
+    throw InputError("KITTI sequence folder '" + dir +
+                     "' holds no .bin or .bin.gz scan (expected velodyne/000000.bin, ... or "
+                     "000000.bin, ... in the folder itself).");
   }
   const size_t n = seq.scan_files.size();
 

@@ -11,7 +11,8 @@ namespace dlo {
 
 /// What a KITTI odometry sequence folder holds, read and checked, scans not loaded.
 struct KittiSequence {
-  /// `velodyne/*.bin` and `velodyne/*.bin.gz`, sorted by name (KITTI names them 000000.bin, ...).
+  /// `velodyne/*.bin` and `velodyne/*.bin.gz` (or the folder's own), sorted by name (KITTI names
+  /// them 000000.bin, ...).
   std::vector<std::string> scan_files;
   /// Time of each scan in seconds (from `times.txt`, or 0.1 s apart when it is missing).
   std::vector<double> times;
@@ -24,11 +25,12 @@ struct KittiSequence {
   bool poses_from_camera_frame = false;
 };
 
-/// Reads the folder `dir`: `velodyne/` (required, at least one scan), `times.txt`, `poses.txt`
-/// and `calib.txt` (optional). KITTI's poses.txt gives the left camera's poses P_cam; with
-/// calib.txt they become LiDAR poses T_velo = Tr^-1 * P_cam * Tr, where Tr maps LiDAR points into
-/// the camera frame. Without calib.txt, poses.txt is taken to hold LiDAR poses already.
-/// \throws InputError naming the file (and line) when the folder or velodyne/ is missing, a line
+/// Reads the folder `dir`: the scans in `velodyne/` (or, without that subfolder, in `dir`
+/// itself; at least one), `times.txt`, `poses.txt` and `calib.txt` (optional). KITTI's poses.txt
+/// gives the left camera's poses P_cam; with calib.txt they become LiDAR poses T_velo = Tr^-1 *
+/// P_cam * Tr, where Tr maps LiDAR points into the camera frame. Without calib.txt, poses.txt is
+/// taken to hold LiDAR poses already. \throws InputError naming the file (and line) when the folder
+/// or velodyne/ is missing, a line
 ///         is malformed, or times/poses do not have one line per scan.
 KittiSequence readKittiSequence(const std::string& dir);
 
