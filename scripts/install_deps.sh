@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages DLO needs to build, test and benchmark, if missing.
 # Run as root (or with sudo). Safe to run repeatedly: it only installs what is absent.
+# DLO_WITH_PCL=1 also installs libpcl-dev (about 240 packages: VTK, Qt, OpenMPI), which lets
+# dlo-bench compare against PCL's NDT and GICP; the build finds it on its own.
 set -euo pipefail
 
 PACKAGES=(
@@ -11,6 +13,9 @@ PACKAGES=(
   # exports: graph-slam checks keyframes.graph; EGL + Mesa render map_render.png headless
   mrpt-apps libegl1 libegl-mesa0 libgl1-mesa-dri
 )
+if [ "${DLO_WITH_PCL:-0}" = "1" ]; then
+  PACKAGES+=(libpcl-dev)
+fi
 
 missing=()
 for p in "${PACKAGES[@]}"; do
