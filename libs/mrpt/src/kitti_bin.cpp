@@ -19,7 +19,13 @@ std::vector<float> readKittiBinRecords(const std::string& path) {
   for (;;) {
     const size_t old = bytes.size();
     bytes.resize(old + kChunk);
+    // CFileGZInputStream::Read passes on gzread's -1 for a corrupt gzip stream, as SIZE_MAX.
     const size_t got = in.Read(bytes.data() + old, kChunk);
+    if (got > kChunk) {
+      throw InputError("KITTI file '" + path +
+                       "' is corrupt: its gzip data cannot be decompressed (" +
+                       std::to_string(old) + " bytes were read before the error).");
+    }
     bytes.resize(old + got);
     if (got == 0) break;
   }

@@ -6,6 +6,9 @@
 #include <mrpt/obs/CObservationVelodyneScan.h>
 #include <mrpt/system/datetime.h>
 #include <cmath>
+#include <cstring>
+
+#include "dlo/mrpt/input_error.h"
 
 namespace dlo {
 
@@ -62,8 +65,21 @@ void convertVelodyne(mrpt::obs::CObservationVelodyneScan& velo, const ScanSource
                  times.empty() ? nullptr : times.data(), pc.size(), options, scan);
 }
 
+/// Makes `flag` a valid bool. MRPT 2.5 deserializes a bool as the raw byte in the file, so a
+/// corrupt rawlog can leave any byte value there, and reading one other than 0 or 1 as a bool is
+/// undefined behaviour (here and in MRPT's inline unprojection code). Any nonzero byte is true.
+void normaliseFlag(bool& flag) {
+  unsigned char byte;
+  std::memcpy(&byte, &flag, 1);
+  flag = byte != 0;
+}
+
 bool convert3DRangeScan(mrpt::obs::CObservation3DRangeScan& r3d, const ScanSourceOptions& options,
                         TimedScan& scan, std::string& reason) {
+  for (bool* flag : {&r3d.hasPoints3D, &r3d.hasRangeImage, &r3d.range_is_depth,
+                     &r3d.hasIntensityImage, &r3d.hasConfidenceImage}) {
+    normaliseFlag(*flag);
+  }
   if (r3d.hasPoints3D && !r3d.points3D_x.empty()) {
     appendFiltered(r3d.sensorPose, r3d.points3D_x.data(), r3d.points3D_y.data(),
                    r3d.points3D_z.data(), nullptr, r3d.points3D_x.size(), options, scan);
@@ -84,25 +100,9 @@ bool convert3DRangeScan(mrpt::obs::CObservation3DRangeScan& r3d, const ScanSourc
   return false;
 }
 
-}  // namespace
-
-std::vector<float> pointCloudObservationTimes(const mrpt::obs::CObservationPointCloud&) {
-  return {};
-}
-
-ObservationConversion observationToTimedScan(mrpt::obs::CObservation& obs,
-                                             const ScanSourceOptions& options, TimedScan& scan,
-                                             std::string& reason) {
-  const size_t entry = scan.entry_index;
-  scan = TimedScan();
-  scan.entry_index = entry;
-  scan.timestamp = obs.timestamp;
-  scan.sensor_label = obs.sensorLabel;
-  scan.source_class = obs.GetRuntimeClass()->className;
-  // Class names come with their namespace ("mrpt::obs::..."); the short name reads better.
-  const auto colon = scan.source_class.rfind(':');
-  if (colon != std::string::npos) scan.source_class = scan.source_class.substr(colon + 1);
-
+/// The points of `obs` into `scan` (its other fields already set), by class.
+ObservationConversion convertPoints(mrpt::obs::CObservation& obs, const ScanSourceOptions& options,
+                                    TimedScan& scan, std::string& reason) {
   if (auto* velo = dynamic_cast<mrpt::obs::CObservationVelodyneScan*>(&obs)) {
     convertVelodyne(*velo, options, scan);
     return ObservationConversion::kConverted;
@@ -131,6 +131,37 @@ ObservationConversion observationToTimedScan(mrpt::obs::CObservation& obs,
     return ObservationConversion::kUnrecoverable;
   }
   return ObservationConversion::kUnsupported;
+}
+
+}  // namespace
+
+std::vector<float> pointCloudObservationTimes(const mrpt::obs::CObservationPointCloud&) {
+  return {};
+}
+
+ObservationConversion observationToTimedScan(mrpt::obs::CObservation& obs,
+                                             const ScanSourceOptions& options, TimedScan& scan,
+                                             std::string& reason) {
+  const size_t entry = scan.entry_index;
+  scan = TimedScan();
+  scan.entry_index = entry;
+  scan.timestamp = obs.timestamp;
+  scan.sensor_label = obs.sensorLabel;
+  scan.source_class = obs.GetRuntimeClass()->className;
+  // Class names come with their namespace ("mrpt::obs::..."); the short name reads better.
+  const auto colon = scan.source_class.rfind(':');
+  if (colon != std::string::npos) scan.source_class = scan.source_class.substr(colon + 1);
+  try {
+    return convertPoints(obs, options, scan, reason);
+  } catch (const std::exception& e) {
+    // MRPT checks some fields only while decoding (camera model and lookup-table sizes of a
+    // range image, calibration, an externally stored file): a corrupt observation is skipped
+    // with the reason, not a failure of the whole input.
+    scan.points.clear();
+    scan.point_times.clear();
+    reason = "MRPT could not decode it (" + oneLineMessage(e) + ").";
+    return ObservationConversion::kUnrecoverable;
+  }
 }
 
 std::string shortClassName(const mrpt::serialization::CSerializable& object) {

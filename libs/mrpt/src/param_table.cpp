@@ -72,7 +72,9 @@ void requireReadableConfig(const std::string& path) {
 }
 
 void rethrowWithFile(const std::string& path, const std::exception& e) {
-  throw InputError("config file '" + path + "': " + e.what());
+  // An InputError is already one sentence; MRPT's parser errors come with a call stack.
+  const std::string why = dynamic_cast<const InputError*>(&e) ? e.what() : oneLineMessage(e);
+  throw InputError("config file '" + path + "': " + why);
 }
 
 }  // namespace dlo::param_text

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -16,6 +17,9 @@ namespace dlo {
 namespace {
 
 enum class Encoding { kAscii, kLittleEndian, kBigEndian };
+
+/// Vertices reserved up front, at most (12 MB); larger clouds grow as they are read.
+constexpr size_t kMaxReservedVertices = size_t{1} << 20;
 
 struct Property {
   std::string name;
@@ -39,6 +43,12 @@ size_t typeSize(const std::string& t) {
   return 0;
 }
 
+/// Whether `v` is finite and within float's range: a double or double-typed property beyond it
+/// would not convert to a finite float (the conversion is even undefined behaviour).
+bool fitsFloat(double v) {
+  return std::abs(v) <= static_cast<double>(std::numeric_limits<float>::max());
+}
+
 bool hostIsLittleEndian() {
   const std::uint16_t one = 1;
   std::uint8_t first;
@@ -46,12 +56,11 @@ bool hostIsLittleEndian() {
   return first == 1;
 }
 
-/// Reads a PLY file sequentially; every failure becomes one InputError naming the file.
+/// Reads a PLY file sequentially from a stream; every failure becomes one InputError naming the
+/// file.
 class PlyReader {
  public:
-  explicit PlyReader(const std::string& path) : path_(path), in_(path, std::ios::binary) {
-    if (!in_) fail("no such file or not readable");
-  }
+  PlyReader(std::istream& in, const std::string& path) : path_(path), in_(in) {}
 
   PointCloud read() {
     readHeader();
@@ -61,6 +70,8 @@ class PlyReader {
         readVertices(e, points);
         return points;
       }
+      // Items without properties occupy no bytes: nothing to skip, however many are declared.
+      if (e.properties.empty()) continue;
       for (size_t i = 0; i < e.count; ++i) skipItem(e, i);
     }
     fail("it has no vertex element");
@@ -197,26 +208,33 @@ class PlyReader {
       ++scalar;
     }
     if (ix < 0 || iy < 0 || iz < 0) fail("its vertices have no x, y and z properties");
-    points.reserve(e.count);
+    // The header's count is not trusted with memory before the vertices are actually read.
+    points.reserve(std::min<size_t>(e.count, kMaxReservedVertices));
     std::vector<double> v;
     for (size_t i = 0; i < e.count; ++i) {
       readItem(e, i, v);
-      if (std::isfinite(v[ix]) && std::isfinite(v[iy]) && std::isfinite(v[iz]))
+      if (fitsFloat(v[ix]) && fitsFloat(v[iy]) && fitsFloat(v[iz]))
         points.emplace_back(static_cast<float>(v[ix]), static_cast<float>(v[iy]),
                             static_cast<float>(v[iz]));
     }
   }
 
   std::string path_;
-  std::ifstream in_;
+  std::istream& in_;
   Encoding encoding_ = Encoding::kAscii;
   std::vector<Element> elements_;
 };
 
 }  // namespace
 
+PointCloud loadPlyStream(std::istream& in, const std::string& name) {
+  return PlyReader(in, name).read();
+}
+
 PointCloud loadPlyFile(const std::string& path) {
-  return PlyReader(path).read();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("cannot read PLY file '" + path + "': no such file or not readable.");
+  return loadPlyStream(in, path);
 }
 
 }  // namespace dlo

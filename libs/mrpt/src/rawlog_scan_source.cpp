@@ -14,17 +14,6 @@ namespace dlo {
 
 namespace {
 
-/// The innermost "Message:" of an MRPT exception (they nest, with stack traces), or the first
-/// line of any other exception: one sentence for a user.
-std::string shortMessage(const std::exception& e) {
-  const std::string what = e.what();
-  const auto at = what.rfind("Message:");
-  std::string line = at == std::string::npos ? what : what.substr(at + 8);
-  line = line.substr(0, line.find('\n'));
-  const auto first = line.find_first_not_of(' ');
-  return first == std::string::npos ? std::string() : line.substr(first);
-}
-
 bool hasGzipMagic(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   unsigned char magic[2] = {0, 0};
@@ -83,7 +72,7 @@ bool RawlogScanSource::readEntry() {
     stats_.error = "rawlog '" + path_ + "' is corrupt at entry " +
                    std::to_string(stats_.entries_read) + " (" + offset + "): " +
                    (in_.checkEOF() ? std::string("the file ends inside that entry (truncated)")
-                                   : "it could not be read (" + shortMessage(e) + ")") +
+                                   : "it could not be read (" + oneLineMessage(e) + ")") +
                    "; the " + std::to_string(stats_.entries_read) + " entries before it were read.";
     return false;
   }

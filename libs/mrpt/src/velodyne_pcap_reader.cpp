@@ -8,6 +8,7 @@
 
 #include "dlo/mrpt/input_error.h"
 #include "dlo/mrpt/observation_to_scan.h"
+#include "dlo/mrpt/velodyne_capture_check.h"
 
 namespace dlo {
 
@@ -51,6 +52,9 @@ VelodynePcapReader::VelodynePcapReader(const std::string& path, VelodyneModel mo
   if (!std::ifstream(path, std::ios::binary)) {
     throw InputError("cannot open pcap '" + path + "': no such file or not readable.");
   }
+  // Before MRPT's driver sees it: it over-reads short packets, crashes on some link types and
+  // loops forever on a capture without Velodyne packets.
+  checkVelodyneCapture(path);
   // pcap_read_fast has no setter in MRPT 2.5; without it the driver sleeps 100 ms per rotation.
   mrpt::config::CConfigFileMemory cfg;
   cfg.write("velodyne", "model", modelName(model));

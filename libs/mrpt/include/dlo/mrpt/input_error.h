@@ -14,4 +14,9 @@ class InputError : public std::runtime_error {
   explicit InputError(const std::string& message) : std::runtime_error(message) {}
 };
 
+/// The message of `e` as one line for a user, to quote inside an InputError: MRPT's exceptions
+/// span several lines ("==== MRPT exception ====", nested "Message:" parts, a call stack), of
+/// which this keeps the innermost message; other exceptions give their first line.
+std::string oneLineMessage(const std::exception& e);
+
 }  // namespace dlo

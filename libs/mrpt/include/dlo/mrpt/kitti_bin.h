@@ -10,8 +10,8 @@ namespace dlo {
 
 /// The raw records of a KITTI Velodyne file: 4 floats per point (x, y, z in metres, sensor frame;
 /// reflectance), non-finite values included. Reads plain or gzip-compressed files.
-/// \throws InputError naming the file if it is missing or its (decompressed) size is not a
-///         multiple of 16 bytes.
+/// \throws InputError naming the file if it is missing, its gzip data is corrupt, or its
+///         (decompressed) size is not a multiple of 16 bytes.
 std::vector<float> readKittiBinRecords(const std::string& path);
 
 /// Loads a KITTI Velodyne file into `map` (replacing its contents) with reflectance as intensity.

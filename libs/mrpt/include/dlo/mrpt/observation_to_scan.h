@@ -26,6 +26,8 @@ enum class ObservationConversion {
 ///   intrinsics when it has no 3D points.
 /// CObservationRotatingScan is kUnrecoverable: MRPT 2.5 stores only its range image, azimuth span
 /// and lidar model, not the elevation angle of each ring, so points cannot be rebuilt from it.
+/// So is an observation MRPT throws on while decoding it (corrupt camera parameters or
+/// calibration, a missing externally stored file): the exception does not escape.
 /// Non-const because lazily-loaded observations must be loaded and range images unprojected.
 /// \param reason set to one sentence when the result is kUnrecoverable.
 ObservationConversion observationToTimedScan(mrpt::obs::CObservation& obs,

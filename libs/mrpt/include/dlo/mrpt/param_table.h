@@ -70,7 +70,8 @@ void throwIfProblem(const std::string& problem);
 [[noreturn]] void fail(const std::string& problem);
 /// Throws InputError naming `path` if it cannot be opened.
 void requireReadableConfig(const std::string& path);
-/// Re-throws an InputError with "config file 'path': " in front.
+/// Throws an InputError of `e`'s message (one line, see oneLineMessage()) with
+/// "config file 'path': " in front.
 [[noreturn]] void rethrowWithFile(const std::string& path, const std::exception& e);
 }  // namespace param_text
 

@@ -10,8 +10,9 @@ template <typename P>
 P ParamTable<P>::loadFile(const std::string& path, const std::string& prefix,
                           const P& defaults) const {
   param_text::requireReadableConfig(path);
-  mrpt::config::CConfigFile config(path);
   try {
+    // Inside the try: MRPT's parser throws its own exceptions for a malformed @define or ${...}.
+    const mrpt::config::CConfigFile config(path);
     return load(config, prefix, defaults);
   } catch (const std::exception& e) {
     param_text::rethrowWithFile(path, e);

@@ -37,7 +37,8 @@ VelodyneModel parseVelodyneModel(const std::string& name);
 /// the timestamps are seconds since the top of the hour: consistent, but not absolute.
 class VelodynePcapReader {
  public:
-  /// \throws InputError naming the file if it is missing or not a pcap capture.
+  /// \throws InputError naming the file if it is missing, not a pcap capture, or fails
+  ///         checkVelodyneCapture() (velodyne_capture_check.h).
   VelodynePcapReader(const std::string& path, VelodyneModel model);
   ~VelodynePcapReader();
 
