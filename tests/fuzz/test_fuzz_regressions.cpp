@@ -137,5 +137,15 @@ TEST(FuzzRegression, PcapWithVelodynePacketsCutByTheSnapLengthIsRejected) {
       << message;
 }
 
+TEST(FuzzRegression, PcapngBlockLibpcapRejectsIsRejectedBeforeMrptLoopsOnIt) {
+  // One good packet block, then one whose trailing length differs from its leading one: libpcap
+  // fails on it before returning the packet, and MRPT's driver, having seen no packet, looped
+  // forever on "Maybe the PCAP file is empty?".
+  const std::string path = regression("pcap/pcapng-trailer-mismatch.pcapng");
+  const std::string message =
+      inputError([&] { VelodynePcapScanSource(path, VelodyneModel::kVLP16); }, path);
+  EXPECT_NE(message.find("trailing length differs"), std::string::npos) << message;
+}
+
 }  // namespace
 }  // namespace dlo

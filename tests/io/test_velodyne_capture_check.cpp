@@ -81,7 +81,8 @@ Bytes classicPcap(const std::vector<Record>& records, bool big_endian = false,
   return out;
 }
 
-/// The same packets as pcapng: a section header, one Ethernet interface, enhanced packet blocks.
+/// The same packets as pcapng: a section header, one Ethernet interface (with a name and a
+/// microsecond time stamp resolution, as Wireshark writes them), enhanced packet blocks.
 Bytes pcapng(const std::vector<Record>& records) {
   Bytes out;
   put32(out, 0x0A0D0D0A);
@@ -93,11 +94,18 @@ Bytes pcapng(const std::vector<Record>& records) {
   put32(out, 0xffffffff);
   put32(out, 28);
   put32(out, 1);  // interface description
-  put32(out, 20);
+  put32(out, 40);
   put16(out, 1);  // Ethernet
   put16(out, 0);
   put32(out, 65535);
-  put32(out, 20);
+  put16(out, 2);  // if_name "eth0"
+  put16(out, 4);
+  out.insert(out.end(), {'e', 't', 'h', '0'});
+  put16(out, 9);  // if_tsresol: 10^-6 s, padded to 4 bytes
+  put16(out, 1);
+  out.insert(out.end(), {6, 0, 0, 0});
+  put32(out, 0);  // end of options
+  put32(out, 40);
   for (const Record& r : records) {
     const uint32_t padded = (static_cast<uint32_t>(r.data.size()) + 3) / 4 * 4;
     const uint64_t micros = uint64_t(r.seconds) * 1000000 + r.microseconds;

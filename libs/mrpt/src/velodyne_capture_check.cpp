@@ -76,7 +76,13 @@ class CaptureWalker {
   [[noreturn]] void fail(const std::string& why) const {
     throw InputError("cannot read Velodyne capture '" + path_ + "': " + why + ".");
   }
+  /// The capture is malformed at `offset` (a record or block).
   [[noreturn]] void corrupt(uint64_t offset, const std::string& why) const {
+    fail("it is corrupt after " + std::to_string(summary_.packets) +
+         " packets: the record at byte offset " + std::to_string(offset) + " " + why);
+  }
+  /// The packet whose data starts at `offset` cannot be given to the driver.
+  [[noreturn]] void badPacket(uint64_t offset, const std::string& why) const {
     fail("packet " + std::to_string(summary_.packets) + " (byte offset " + std::to_string(offset) +
          ") " + why);
   }
@@ -104,7 +110,9 @@ class CaptureWalker {
     }
   }
 
-  /// One packet of `captured` bytes (already limited by the snap length) at `offset`.
+  /// The packet at `offset`, of which libpcap returns `captured` bytes. The filter is evaluated
+  /// exactly as the driver's (a packet counted here must be one it accepts, or it would loop
+  /// forever on a capture it finds empty; one it accepts must be checked here).
   void checkPacket(uint64_t offset, uint64_t captured) {
     uint8_t p[kPrefixBytes];
     const size_t n = static_cast<size_t>(std::min<uint64_t>(captured, kPrefixBytes));
@@ -113,15 +121,17 @@ class CaptureWalker {
       ++summary_.velodyne_packets;
       // The driver tells data from position packets by the port at a fixed offset, then copies
       // a whole payload out of the packet.
-      if (n < 38) corrupt(offset, "is too short for the UDP header the driver reads");
+      if (n < 38) {
+        badPacket(offset, "is too short for the UDP header the driver reads");
+      }
       const uint16_t port = be16(p + 36);
       const size_t needed = port == kDataPort       ? kDataPacketBytes
                             : port == kPositionPort ? kPositionPacketBytes
                                                     : 0;
       if (captured < needed) {
-        corrupt(offset, "is a Velodyne " + std::string(port == kDataPort ? "data" : "position") +
-                            " packet captured with " + std::to_string(captured) + " of its " +
-                            std::to_string(needed) + " bytes (was the snap length too short?)");
+        badPacket(offset, "is a Velodyne " + std::string(port == kDataPort ? "data" : "position") +
+                              " packet captured with " + std::to_string(captured) + " of its " +
+                              std::to_string(needed) + " bytes (was the snap length too short?)");
       }
     }
     ++summary_.packets;
@@ -150,55 +160,106 @@ class CaptureWalker {
     }
   }
 
+  /// Reads the options of an interface description block (body offsets [from, to)) the way
+  /// libpcap does, which fails on malformed ones.
+  void checkInterfaceOptions(uint64_t block, uint64_t from, uint64_t to) {
+    bool saw_resolution = false, saw_offset = false;
+    while (from < to) {
+      uint8_t option[5] = {};
+      if (to - from < 4 || !readAt(from, option, 4)) corrupt(block, "has a truncated option");
+      const uint16_t code = u16(option), length = u16(option + 2);
+      const uint64_t padded = (uint64_t(length) + 3) / 4 * 4;
+      if (to - from - 4 < padded) corrupt(block, "has an option longer than its block");
+      if (code == 0) {  // end of options
+        if (length != 0) corrupt(block, "has an end-of-options mark with a value");
+        return;
+      }
+      if (code == 9) {  // if_tsresol: 10^-n or 2^-n seconds
+        if (length != 1 || saw_resolution || !readAt(from + 4, option + 4, 1)) {
+          corrupt(block, "has a bad time stamp resolution option");
+        }
+        const int exponent = option[4] & 0x7f;
+        if (exponent > ((option[4] & 0x80) ? 62 : 18)) {
+          corrupt(block, "has a time stamp resolution finer than libpcap reads");
+        }
+        saw_resolution = true;
+      } else if (code == 14) {  // if_tsoffset
+        if (length != 8 || saw_offset) corrupt(block, "has a bad time stamp offset option");
+        saw_offset = true;
+      }
+      from += 4 + padded;
+    }
+  }
+
+  /// pcapng, as libpcap 1.10 reads it; where libpcap would fail part way (and MRPT's driver
+  /// would stop there, or loop forever when no packet came before) the capture is rejected, except
+  /// for a last block cut by the end of the file (an interrupted capture), where both stop.
   void walkPcapng() {
-    std::vector<uint32_t> snap_of_interface;  // of the current section
-    bool have_section = false;
+    std::vector<uint32_t> snap_of_interface;
     for (uint64_t at = 0; at < size_;) {
       uint8_t head[12];
       if (!readAt(at, head, 12)) return;  // a block cut by the end: libpcap stops
-      if (be16(head) == 0x0A0D && be16(head + 2) == 0x0D0A) {
-        // Section header: its byte-order magic sets the byte order of the whole section.
+      const bool section = be16(head) == 0x0A0D && be16(head + 2) == 0x0D0A;
+      if (section != (at == 0)) {
+        fail(at == 0 ? "it does not start with a pcapng section header"
+                     : "it has more than one section (captures joined into one file)");
+      }
+      if (section) {
+        // The byte-order magic sets the byte order of the section.
         const uint32_t bom = uint32_t(head[8]) | uint32_t(head[9]) << 8 | uint32_t(head[10]) << 16 |
                              uint32_t(head[11]) << 24;
         if (bom != 0x1A2B3C4D && bom != 0x4D3C2B1A) corrupt(at, "has a bad section header");
         big_endian_ = bom == 0x4D3C2B1A;
-        snap_of_interface.clear();
-        have_section = true;
-      } else if (!have_section) {
-        fail("it does not start with a pcapng section header");
       }
       const uint32_t type = u32(head);
       const uint32_t length = u32(head + 4);
-      if (length < 12 || length % 4 != 0) {
+      // libpcap's own limit is a little above: the largest packet plus 128 KiB of options.
+      if (length < 12 || length % 4 != 0 || length > kMaxSnapLength + 131072) {
         corrupt(at, "has a block length of " + std::to_string(length) + " bytes");
       }
       if (size_ - at < length) return;  // the last block cut by the end: libpcap stops
+      uint8_t trailer[4];
+      if (!readAt(at + length - 4, trailer, 4) || u32(trailer) != length) {
+        corrupt(at, "has a block whose trailing length differs from its leading one");
+      }
       const uint64_t body = at + 8;
       const uint32_t body_length = length - 12;
       uint8_t fields[20] = {};
       auto need = [&](uint32_t n) {
         if (body_length < n || !readAt(body, fields, n)) corrupt(at, "has a block too short");
       };
-      if (type == 1) {  // interface description: link type, snap length
+      if (section) {
+        if (length < 28) corrupt(at, "has a section header too short");
+        need(8);
+        if (u16(fields + 4) != 1 || u16(fields + 6) != 0) {
+          fail("its pcapng version is " + std::to_string(u16(fields + 4)) + "." +
+               std::to_string(u16(fields + 6)) + ", not 1.0");
+        }
+      } else if (type == 1) {  // interface description: link type, snap length, options
         need(8);
         requireEthernet(u16(fields));
         snap_of_interface.push_back(snapLength(u32(fields + 4)));
-      } else if (type == 6 || type == 2) {  // enhanced / obsolete packet block
-        need(20);
-        const uint32_t interface = type == 6 ? u32(fields) : u16(fields);
-        if (interface >= snap_of_interface.size()) {
-          corrupt(at, "refers to interface " + std::to_string(interface) +
-                          ", which the section does not describe");
+        checkInterfaceOptions(at, body + 8, body + body_length);
+      } else if (type == 6 || type == 2 || type == 3) {  // enhanced, obsolete, simple packet
+        if (snap_of_interface.empty()) corrupt(at, "is a packet before any interface description");
+        // libpcap cuts every packet to the snap length of the first interface.
+        const uint32_t snap = snap_of_interface.front();
+        if (type == 3) {  // its length is the original length
+          need(4);
+          const uint32_t returned = std::min(u32(fields), snap);
+          if (returned > body_length - 4) corrupt(at, "has a packet longer than its block");
+          checkPacket(body + 4, returned);
+        } else {
+          need(20);
+          const uint32_t interface = type == 6 ? u32(fields) : u16(fields);
+          if (interface >= snap_of_interface.size()) {
+            corrupt(at, "is a packet of interface " + std::to_string(interface) +
+                            ", which the section does not describe");
+          }
+          const uint32_t caplen = u32(fields + 12);
+          if (caplen > body_length - 20) corrupt(at, "has a packet longer than its block");
+          checkPacket(body + 20, std::min(caplen, snap));
         }
-        const uint32_t caplen = u32(fields + 12);
-        if (caplen > body_length - 20) corrupt(at, "has a packet longer than its block");
-        checkPacket(body + 20, std::min(caplen, snap_of_interface[interface]));
-      } else if (type == 3) {  // simple packet block: interface 0, length from the snap length
-        need(4);
-        if (snap_of_interface.empty()) corrupt(at, "comes before any interface description");
-        const uint32_t captured =
-            std::min({u32(fields), body_length - 4, snap_of_interface.front()});
-        checkPacket(body + 4, captured);
       }
       at += length;
     }
