@@ -14,6 +14,11 @@ namespace dlo::sim {
 void appendCarPrimitives(const Eigen::Vector3d& ground, double yaw, SurfaceClass surface,
                          std::vector<Primitive>& out);
 
+/// Appends the two boxes of a box truck (cargo box 7.5 x 2.5 x 2.8 m on 0.8 m of clearance,
+/// cab 2.2 x 2.4 x 2.1 m ahead of it; 10 m long overall) standing at `ground` and heading `yaw`.
+void appendTruckPrimitives(const Eigen::Vector3d& ground, double yaw, SurfaceClass surface,
+                           std::vector<Primitive>& out);
+
 /// A car driving at constant speed along a straight road, wrapping around at its end.
 struct MovingCar {
   Eigen::Vector2d start;      ///< Start of the lane's centreline.
@@ -21,6 +26,7 @@ struct MovingCar {
   double length = 100.0;      ///< Lane length before the car wraps to the start [m].
   double speed = 8.0;         ///< [m/s]
   double phase = 0.0;         ///< Distance from start at t = 0 [m].
+  bool truck = false;         ///< A box truck instead of a passenger car.
 };
 
 /// All moving cars; their position is a function of time only.
