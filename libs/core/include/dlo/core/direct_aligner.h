@@ -25,8 +25,9 @@ struct SolverParams {
   double min_step_translation = 1e-4;  ///< convergence: translation update below this (m)
   double min_step_rotation = 1e-5;     ///< convergence: rotation update below this (rad)
   int min_cells = 30;                  ///< fewer usable cells than this: degenerate
-  double degeneracy_eigen_ratio =
-      0.02;                      ///< eig_min/eig_max of the scaled Hessian below: degenerate
+  /// eig_min/eig_max of the scaled Hessian below this, on the finest level or the next coarser
+  /// one: degenerate
+  double degeneracy_eigen_ratio = 0.02;
   double rotation_scale = 10.0;  ///< metres; scales rotations against translations
                                  ///< when judging conditioning
 };
@@ -43,9 +44,13 @@ struct AlignmentResult {
   int cells = 0;                  ///< cells with a valid residual at the last iteration
   double rms_height_error = 0.0;  ///< RMS of the height error at the end, metres
   bool converged = false;         ///< the finest level met the step criteria
-  bool degenerate = false;        ///< the Hessian was ill-conditioned or too few cells
-  /// Smallest over largest eigenvalue of the Hessian (rotations scaled by rotation_scale):
-  /// 1 is isotropic information, 0 an unobservable direction.
+  /// The Hessian of the finest level or of the next coarser one was ill-conditioned, or there
+  /// were too few cells: the covariance is 1e6 along what either cannot observe, and along
+  /// what the next coarser level cannot observe `pose` is the initial guess.
+  bool degenerate = false;
+  /// Smallest over largest eigenvalue of the Hessian (rotations scaled by rotation_scale), the
+  /// lower of the finest level and the next coarser one: 1 is isotropic information, 0 an
+  /// unobservable direction.
   double information_ratio = 0.0;
   StageTimes times;  ///< solve_ms only (frame build times are the frames')
 };
