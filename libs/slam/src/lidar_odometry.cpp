@@ -1,5 +1,6 @@
 #include "dlo/slam/lidar_odometry.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "dlo/core/deskew.h"
@@ -8,6 +9,11 @@ namespace dlo {
 
 namespace {
 constexpr double kDeg = M_PI / 180.0;
+/// Variance of what a rejected registration could not tell, as DirectAligner gives directions it
+/// cannot observe.
+constexpr double kUnobservedVariance = 1e6;
+/// Velocity measurements before the constant-velocity prediction is trusted to reject a scan.
+constexpr size_t kSettledVelocityUpdates = 5;
 
 /// Points within `range` metres (horizontally) of the vehicle: what a keyframe keeps.
 PointCloud withinRange(const PointCloud& points, double range) {
@@ -48,10 +54,24 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     pose = reference_pose_ * step.registration.pose;
     step.registered = true;
     step.times.registration.solve_ms += step.registration.times.solve_ms;
+    if (dt > 0.0 && dt < 1.0 && implausible(deviationFrom(predicted, pose))) {
+      keepPrediction(predicted, step.registration);
+      step.rejected = true;
+      pose = predicted;
+    } else if (rejected_run_ >= params_.odometry.max_rejected_scans) {
+      // A run of rejections ended by believing the registration again: the jump back makes
+      // the next predictions wrong for a while, so the velocity must settle again before the
+      // prediction may reject anything (otherwise the runs repeat; seen on HDL-32 drives).
+      velocity_updates_ = 0;
+    }
+    rejected_run_ = step.rejected ? rejected_run_ + 1 : 0;
   }
   step.pose = pose;
 
-  if (frames_ > 0 && dt > 0.0 && dt < 1.0) {
+  // A scan that was not registered, or whose registration was rejected, measured nothing: the
+  // velocity stays as it was. Recomputing it over two intervals from the kept prediction would
+  // drag in the interval before, often the one where the trouble started.
+  if (frames_ > 0 && dt > 0.0 && dt < 1.0 && step.registered && !step.rejected) {
     // The velocity is measured over the last two intervals, not one. Deskewing with a velocity
     // error d rotates the scan by about d/2, which the registration turns into a pose error of
     // opposite sign, which the next one-interval velocity doubles: a period-2 oscillation that
@@ -64,12 +84,13 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     // pitch are observed afresh from the ground.
     v(2) = v(3) = v(4) = 0.0;
     velocity_ = v;
+    ++velocity_updates_;
   }
   if (frames_ == 1 && !first_points_.empty()) redoFirstKeyframe(step);
 
   Stopwatch keyframe_watch;
   const bool first = frames_ == 0;
-  if (!current_.empty() && (first || needsKeyframe(pose, step.registration))) {
+  if (!current_.empty() && (first || (hasStructure() && needsKeyframe(pose, step.registration)))) {
     addKeyframe(pose, *cloud, step);
     if (first && params_.odometry.deskew != 0 && !point_times.empty()) {
       first_points_ = points;
@@ -90,6 +111,37 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   last_time_ = time;
   ++frames_;
   return step;
+}
+
+double LidarOdometry::deviationFrom(const Eigen::Isometry3d& predicted,
+                                    const Eigen::Isometry3d& pose) const {
+  const Eigen::Isometry3d c = predicted.inverse() * pose;
+  const double turn =
+      params_.registration.solver.rotation_scale * Eigen::AngleAxisd(c.linear()).angle();
+  return std::max(c.translation().norm(), turn);
+}
+
+bool LidarOdometry::implausible(double deviation) const {
+  const OdometryParams& o = params_.odometry;
+  // Only against a velocity measured past the start (whose first scans, registered without a
+  // velocity or against an undeskewed scan, legitimately jump by 0.3 m), and not for ever:
+  // after a run of rejections it is the prediction that has probably gone wrong.
+  return o.max_prior_deviation > 0.0 && velocity_updates_ >= kSettledVelocityUpdates &&
+         rejected_run_ < o.max_rejected_scans && deviation > o.max_prior_deviation;
+}
+
+void LidarOdometry::keepPrediction(const Eigen::Isometry3d& predicted, AlignmentResult& r) const {
+  r.pose = reference_pose_.inverse() * predicted;
+  r.degenerate = true;
+  r.covariance = Matrix6d::Identity() * kUnobservedVariance;
+}
+
+bool LidarOdometry::hasStructure() const {
+  // A scan cut to a handful of points would make a keyframe, and the anchor of the local map,
+  // that later scans cannot be registered against; a bare field is not worth one either. Once
+  // structure returns, the distance rule makes the keyframe at once.
+  return static_cast<int>(current_.levels().front().cells.size()) >=
+         params_.registration.solver.min_cells;
 }
 
 bool LidarOdometry::needsKeyframe(const Eigen::Isometry3d& pose, const AlignmentResult& r) const {

@@ -20,6 +20,12 @@ std::vector<ParamField<SlamParams>> fields() {
                  "frame-to-frame), 1 = last keyframe, 2 = local map of recent keyframes"),
       paramField("odometry", "local_map_keyframes", &S::odometry, &O::local_map_keyframes,
                  "keyframes fused into the local map (reference = 2)"),
+      paramField("odometry", "max_prior_deviation", &S::odometry, &O::max_prior_deviation,
+                 "metres; a registration farther than this from the constant-velocity "
+                 "prediction (rotations counted at solver.rotation_scale) is rejected, the "
+                 "prediction kept and the scan flagged; 0: off"),
+      paramField("odometry", "max_rejected_scans", &S::odometry, &O::max_rejected_scans,
+                 "consecutive rejected scans after which registrations are believed again"),
       paramField("odometry", "keyframe_distance", &S::odometry, &O::keyframe_distance,
                  "metres travelled since the last keyframe that make a new one"),
       paramField("odometry", "keyframe_angle", &S::odometry, &O::keyframe_angle,

@@ -12,6 +12,11 @@ std::string SlamParams::validate() const {
                       "0 (frame), 1 (keyframe) or 2 (local map)");
   if (o.local_map_keyframes < 1 || o.local_map_keyframes > 50)
     return outOfRange("odometry.local_map_keyframes", o.local_map_keyframes, "1..50");
+  if (!(o.max_prior_deviation >= 0.0))
+    return outOfRange("odometry.max_prior_deviation", o.max_prior_deviation,
+                      ">= 0 metres (0: off)");
+  if (!(o.max_rejected_scans >= 1))
+    return outOfRange("odometry.max_rejected_scans", o.max_rejected_scans, ">= 1 scan");
   if (!(o.keyframe_distance > 0.0))
     return outOfRange("odometry.keyframe_distance", o.keyframe_distance, "a positive distance");
   if (!(o.keyframe_angle > 0.0))

@@ -28,7 +28,11 @@ struct OdometryStep {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   AlignmentResult registration;  ///< against the reference (none for the first scan)
   bool registered = false;       ///< false for the first scan and for empty scans
-  bool new_keyframe = false;     ///< this scan became a keyframe
+  /// The registration moved the pose farther from the constant-velocity prediction than
+  /// odometry.max_prior_deviation (a large moving object, a wrong basin): the prediction was
+  /// kept, and `registration` describes it (degenerate, its pose, unobserved covariance).
+  bool rejected = false;
+  bool new_keyframe = false;  ///< this scan became a keyframe
   /// The new keyframe's points (deskewed, vehicle frame, decimated to map_voxel within
   /// map_range); empty unless new_keyframe.
   WeightedCloud keyframe_cloud;
@@ -61,6 +65,14 @@ class LidarOdometry {
     WeightedCloud cloud;     ///< vehicle frame, keyframe_voxel
   };
 
+  /// Metres between two poses, a rotation counted as its displacement at solver.rotation_scale.
+  double deviationFrom(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& pose) const;
+  /// A registered pose that far from the prediction is not to be believed (see OdometryStep).
+  bool implausible(double deviation) const;
+  /// Replaces a rejected registration by the prediction.
+  void keepPrediction(const Eigen::Isometry3d& predicted, AlignmentResult& r) const;
+  /// The current scan has enough selected cells (solver.min_cells) to become a keyframe.
+  bool hasStructure() const;
   bool needsKeyframe(const Eigen::Isometry3d& pose, const AlignmentResult& r) const;
   void addKeyframe(const Eigen::Isometry3d& pose, const PointCloud& points, OdometryStep& step);
   void rebuildLocalMap();
@@ -86,6 +98,8 @@ class LidarOdometry {
   Eigen::Isometry3d before_last_pose_ = Eigen::Isometry3d::Identity();
   double before_last_time_ = 0.0;
   size_t frames_ = 0;
+  size_t velocity_updates_ = 0;  ///< scans the velocity was measured from
+  int rejected_run_ = 0;         ///< consecutive rejected registrations
   bool has_reference_ = false;
 };
 

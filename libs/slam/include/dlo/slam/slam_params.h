@@ -14,7 +14,14 @@ struct OdometryParams {
   /// What each scan is registered against: 0 = the previous scan (the paper's frame-to-frame),
   /// 1 = the last keyframe, 2 = a local height map fused from the last `local_map_keyframes`.
   int reference = 2;
-  int local_map_keyframes = 4;     ///< keyframes fused into the local map (reference = 2)
+  int local_map_keyframes = 4;  ///< keyframes fused into the local map (reference = 2)
+  /// Metres: a registration farther than this from the constant-velocity prediction (rotations
+  /// counted as their displacement at solver.rotation_scale) is rejected, the prediction kept
+  /// and the scan flagged degenerate; 0 disables.
+  double max_prior_deviation = 0.3;
+  /// Consecutive rejected scans after which registrations are believed again: by then the
+  /// prediction is the more likely culprit.
+  int max_rejected_scans = 5;
   double keyframe_distance = 2.0;  ///< metres travelled since the last keyframe: new keyframe
   double keyframe_angle = 10.0;    ///< degrees turned since the last keyframe: new keyframe
   double keyframe_max_rms = 0.3;   ///< registration RMS height error (m) above this: new keyframe
