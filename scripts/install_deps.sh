@@ -10,6 +10,9 @@ PACKAGES=(
   libmrpt-dev libeigen3-dev libopencv-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-format
+  # fuzzing (scripts/run_fuzz.sh): clang, and libclang_rt.fuzzer with the ASan/UBSan runtimes,
+  # which Debian 12's clang-14 only recommends
+  clang libclang-rt-14-dev
   # exports: graph-slam checks keyframes.graph; EGL + Mesa render map_render.png headless
   mrpt-apps libegl1 libegl-mesa0 libgl1-mesa-dri
 )
