@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # README command (2): install what is missing, build, and run the whole test suite with ctest;
 # then build again with AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/) and run the
-# suite once more under them. DLO_SKIP_SANITIZERS=1 skips the second pass.
+# suite once more under them; then fuzz every input parser for a bounded number of executions
+# (scripts/run_fuzz.sh, build-fuzz/). DLO_SKIP_SANITIZERS=1 skips the second pass,
+# DLO_SKIP_FUZZ=1 the third.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
@@ -18,4 +20,9 @@ if [ "${DLO_SKIP_SANITIZERS:-0}" != "1" ]; then
   export LSAN_OPTIONS="suppressions=$supp/lsan.supp"
   export UBSAN_OPTIONS="suppressions=$supp/ubsan.supp:print_stacktrace=1:halt_on_error=1"
   (cd build-asan && ctest --output-on-failure -j "${DLO_JOBS:-2}")
+fi
+
+if [ "${DLO_SKIP_FUZZ:-0}" != "1" ]; then
+  echo "run_tests: libFuzzer targets of every input parser (scripts/run_fuzz.sh)"
+  bash scripts/run_fuzz.sh
 fi
