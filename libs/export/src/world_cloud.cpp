@@ -14,16 +14,4 @@ void forEachWorldCloud(const SlamMap& map,
   }
 }
 
-WeightedCloud worldCloud(const SlamMap& map, double voxel) {
-  if (voxel > 0.0) {
-    VoxelMerger merged(voxel);
-    forEachWorldCloud(map, [&](const WeightedCloud& c) { merged.add(c); });
-    return merged.result();
-  }
-  WeightedCloud all;
-  forEachWorldCloud(map,
-                    [&](const WeightedCloud& c) { all.insert(all.end(), c.begin(), c.end()); });
-  return all;
-}
-
 }  // namespace dlo

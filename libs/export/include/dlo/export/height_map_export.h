@@ -47,7 +47,7 @@ class HeightGridAccumulator {
   std::vector<std::uint64_t> count_;
 };
 
-/// Serialises `grid` (usually toHeightGridMap() of worldCloud()) with
+/// Serialises `grid` (usually HeightGridAccumulator::grid() over forEachWorldCloud()) with
 /// mrpt::io::CFileGZOutputStream and archiveFrom(...) << grid, atomically; read it back with
 /// CFileGZInputStream and archiveFrom(...) >> grid.
 /// \throws ExportError naming `path`.

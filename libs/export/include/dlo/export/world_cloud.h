@@ -1,5 +1,5 @@
 /// \file world_cloud.h
-/// \brief Keyframe clouds in the world frame: one at a time, or merged.
+/// \brief Keyframe clouds in the world frame, one at a time.
 #pragma once
 
 #include <functional>
@@ -14,10 +14,5 @@ namespace dlo {
 /// one by one), so that exporting a long run needs memory for one keyframe, not all of them.
 void forEachWorldCloud(const SlamMap& map,
                        const std::function<void(const WeightedCloud& world_points)>& visit);
-
-/// Every keyframe's cloud in the world frame, merged in voxels of side `voxel` metres (counts
-/// add, centroids are weighted means), so overlapping keyframes do not multiply the points;
-/// memory grows with the voxels, not the keyframes. `voxel` <= 0 concatenates without merging.
-WeightedCloud worldCloud(const SlamMap& map, double voxel);
 
 }  // namespace dlo
