@@ -120,6 +120,19 @@ TEST(RigidTransform, ExpOfAPureRotationIsThatRotation) {
   EXPECT_NEAR(T.translation().norm(), 0.0, 1e-12);
 }
 
+TEST(RigidTransform, LogInvertsExpForRotationsFromTinyToLarge) {
+  // A 2 m step with rotations down to 1e-9 rad, as planar poses produce: the closed form of
+  // V^-1 cancelled catastrophically there (a 1.94 m step came out as 2.56 m).
+  for (const double angle :
+       {0.0, 1e-12, 1e-9, 3e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3, 2e-3, 0.1, 1.0, 2.5}) {
+    SCOPED_TRACE("angle " + std::to_string(angle));
+    Vector6d xi;
+    xi << 1.9, 0.3, -0.1, 0.2 * angle, -0.3 * angle, angle;
+    const Vector6d back = logSE3(expSE3(xi));
+    EXPECT_LT((back - xi).norm(), 1e-9);
+  }
+}
+
 TEST(RigidTransform, CovarianceOfYawMapsToYawAtIdentity) {
   Matrix6d cov = Matrix6d::Zero();
   cov(5, 5) = 0.01;  // wz
