@@ -45,6 +45,15 @@ void HeightFrame::build(const std::vector<PosedCloud>& parts, const HeightGridPa
       grid, selection, include_ground);
 }
 
+void HeightFrame::build(const HeightGrid::CellFiller& fill, const HeightGridParams& grid,
+                        const SelectionParams& selection, bool include_ground) {
+  buildWith(
+      [&](HeightGrid& finest, const GridGeometry& geometry) {
+        finest.accumulateCells(geometry, grid.min_points, fill);
+      },
+      grid, selection, include_ground);
+}
+
 void HeightFrame::buildWith(
     const std::function<void(HeightGrid&, const GridGeometry&)>& rasterise_finest,
     const HeightGridParams& grid, const SelectionParams& selection, bool include_ground) {

@@ -82,6 +82,16 @@ void HeightGrid::rasterise(const std::vector<PosedCloud>& parts, const GridGeome
   finalise();
 }
 
+void HeightGrid::accumulateCells(const GridGeometry& geometry, int min_points,
+                                 const CellFiller& fill) {
+  geometry_ = geometry;
+  min_points_ = min_points;
+  count_.assign(geometry.cellCount(), 0u);
+  sum_z_.assign(geometry.cellCount(), 0.0f);
+  fill(count_.data(), sum_z_.data());
+  finalise();
+}
+
 HeightGrid HeightGrid::fromCells(const GridGeometry& geometry,
                                  const std::vector<float>& mean_heights,
                                  const std::vector<std::uint32_t>& counts, int min_points) {

@@ -45,6 +45,11 @@ class HeightFrame {
   void build(const std::vector<PosedCloud>& parts, const HeightGridParams& grid,
              const SelectionParams& selection, bool include_ground);
 
+  /// Rebuilds this frame from cells accumulated elsewhere (see HeightGrid::accumulateCells()),
+  /// in the centred geometry of `grid`, e.g. a LocalHeightMap window.
+  void build(const HeightGrid::CellFiller& fill, const HeightGridParams& grid,
+             const SelectionParams& selection, bool include_ground);
+
   /// Builds the pyramid from an existing finest-level grid.
   static HeightFrame fromGrid(const HeightGrid& finest, int levels,
                               const SelectionParams& selection, bool include_ground);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <opencv2/core/mat.hpp>
 #include <vector>
 
@@ -53,6 +54,12 @@ class HeightGrid {
   /// Rasterises several posed clouds into one grid (their counts and sums add up).
   void rasterise(const std::vector<PosedCloud>& parts, const GridGeometry& geometry, int min_points,
                  double min_z, double max_z);
+
+  /// Per-cell point counts and height sums, row-major, for accumulateCells().
+  using CellFiller = std::function<void(std::uint32_t* count, float* sum)>;
+  /// Rebuilds this grid from the counts and height sums that `fill` writes into zeroed arrays
+  /// of `geometry`'s size: cells accumulated elsewhere, e.g. a LocalHeightMap window.
+  void accumulateCells(const GridGeometry& geometry, int min_points, const CellFiller& fill);
 
   /// The next coarser level (cells twice as large) from pooled sums and counts.
   HeightGrid coarser() const;
