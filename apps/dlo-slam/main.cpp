@@ -207,8 +207,8 @@ int run(const Arguments& args) {
   export_options.map_voxel = params.odometry.map_voxel;
   const dlo::ExportReport exported = dlo::exportAll(slam.map(), args.out, export_options);
   for (const std::string& w : exported.warnings) std::cerr << "dlo-slam: warning: " << w << "\n";
-  const std::string report = dlo::slamReportJson(slam, args.input, dlo::slamParamsToIni(params),
-                                                 accuracy, interrupted, input_error);
+  const std::string report = dlo::slamReportJson(
+      slam, args.input, dlo::slamParamsToIni(slam.params()), accuracy, interrupted, input_error);
   const std::string report_path = (std::filesystem::path(args.out) / "report.json").string();
   dlo::writeBytesAtomically(report_path, std::vector<unsigned char>(report.begin(), report.end()));
 
@@ -218,6 +218,11 @@ int run(const Arguments& args) {
             << " keyframes, " << slam.counters().loops_accepted << " loops closed ("
             << slam.counters().loops_rejected << " rejected), " << slam.counters().degenerate_frames
             << " degenerate; " << ms[ms.size() / 2] << " ms/scan median";
+  if (slam.sparseSensor()) {
+    const dlo::HeightGridParams& g = slam.params().registration.grid;
+    std::cout << "; sparse sensor: " << g.cols << " x " << g.rows << " cells of " << g.resolution
+              << " m";
+  }
   if (accuracy) {
     std::cout << "; ATE " << accuracy->ate_rmse_before << " m before, " << accuracy->ate_rmse_after
               << " m after loop closure";

@@ -28,11 +28,15 @@ PointCloud withinRange(const PointCloud& points, double range) {
 }  // namespace
 
 LidarOdometry::LidarOdometry(const SlamParams& params)
-    : params_(params), aligner_(params.registration.solver) {}
+    : params_(params),
+      aligner_(params.registration.solver),
+      scan_map_(params.registration.grid.resolution, params.registration.grid.cols,
+                params.registration.grid.rows, params.odometry.local_map_scans) {}
 
 OdometryStep LidarOdometry::process(double time, const PointCloud& points,
                                     const std::vector<float>& point_times) {
   OdometryStep step;
+  if (!sensor_checked_ && !points.empty()) adaptToSensor(points.size());
   const DloParams& reg = params_.registration;
   const double dt = frames_ == 0 ? 0.0 : time - last_time_;
   // Constant velocity: the motion of the last interval, repeated.
@@ -63,6 +67,9 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
       // the next predictions wrong for a while, so the velocity must settle again before the
       // prediction may reject anything (otherwise the runs repeat; seen on HDL-32 drives).
       velocity_updates_ = 0;
+      // The scan map may be what went wrong (a bad scan inserted before the run): it restarts
+      // from this scan rather than keep pulling the next ones back.
+      scan_map_.clear();
     }
     rejected_run_ = step.rejected ? rejected_run_ + 1 : 0;
   }
@@ -104,6 +111,14 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     has_reference_ = true;
   }
   step.times.keyframe_ms = keyframe_watch.elapsedMs();
+  // Only scans whose pose was measured go into the map: a rejected one (a large moving object,
+  // a wrong basin) would smear what the next scans are registered against.
+  if (params_.odometry.reference == 3 && !current_.empty() &&
+      (first || (step.registered && !step.rejected))) {
+    Stopwatch map_watch;
+    updateScanMap(*cloud, pose);
+    step.times.local_map_ms = map_watch.elapsedMs();
+  }
 
   before_last_pose_ = last_pose_;
   before_last_time_ = last_time_;
@@ -161,7 +176,7 @@ void LidarOdometry::addKeyframe(const Eigen::Isometry3d& pose, const PointCloud&
   decimate(points, fine, step.keyframe_cloud);
   step.new_keyframe = true;
   last_keyframe_pose_ = pose;
-  if (o.reference == 0) return;
+  if (o.reference != 1 && o.reference != 2) return;
   recent_.push_back(RecentKeyframe{pose, std::move(fine)});
   const size_t keep = o.reference == 1 ? 1 : static_cast<size_t>(o.local_map_keyframes);
   while (recent_.size() > keep) recent_.pop_front();
@@ -178,11 +193,20 @@ void LidarOdometry::decimate(const PointCloud& points, WeightedCloud& fine,
 void LidarOdometry::redoFirstKeyframe(OdometryStep& step) {
   // The first two scans were registered raw, so the velocity they give is consistent; with it
   // the first keyframe can now be deskewed like every later scan.
+  const PointCloud first = dlo::deskew(first_points_, first_times_, velocity_);
   WeightedCloud fine;
-  decimate(dlo::deskew(first_points_, first_times_, velocity_), fine, step.first_keyframe_cloud);
-  if (params_.odometry.reference != 0 && !recent_.empty()) {
+  decimate(first, fine, step.first_keyframe_cloud);
+  const int reference = params_.odometry.reference;
+  if ((reference == 1 || reference == 2) && !recent_.empty()) {
     recent_.front().cloud = std::move(fine);
     rebuildLocalMap();
+  }
+  if (reference == 3) {
+    // The scan map starts again from the deskewed first scan (at 10 m/s the raw one is
+    // stretched by a metre); this scan joins it next.
+    scan_map_.clear();
+    const DloParams& reg = params_.registration;
+    scan_map_.insert(first, last_pose_, reg.grid.min_z, reg.grid.max_z);
   }
   first_points_ = PointCloud();
   first_times_ = std::vector<float>();
@@ -198,6 +222,36 @@ void LidarOdometry::rebuildLocalMap() {
     parts.push_back(PosedCloud{&k.cloud, anchor.inverse() * k.pose});
   reference_.build(parts, reg.grid, reg.selection, reg.includeGround());
   reference_pose_ = anchor;
+  has_reference_ = true;
+}
+
+}  // namespace dlo
+
+namespace dlo {
+
+void LidarOdometry::adaptToSensor(size_t points) {
+  sensor_checked_ = true;
+  const OdometryParams& o = params_.odometry;
+  if (o.sparse_scan_points == 0 || points >= static_cast<size_t>(o.sparse_scan_points)) return;
+  // Measured on simulated drives (README): at 0.1 m the rings of a VLP-16 leave a sensor-locked
+  // pattern of measured and filled cells that pulls registrations towards zero motion; 0.2 m
+  // cells over a 60 m window (sparse sensors see fewer nearby structures) register them.
+  HeightGridParams& g = params_.registration.grid;
+  g.resolution = o.sparse_resolution;
+  g.cols = g.rows = o.sparse_cells;
+  scan_map_ = LocalHeightMap(g.resolution, g.cols, g.rows, o.local_map_scans);
+  sparse_sensor_ = true;
+}
+
+void LidarOdometry::updateScanMap(const PointCloud& points, const Eigen::Isometry3d& pose) {
+  const DloParams& reg = params_.registration;
+  scan_map_.insert(points, pose, reg.grid.min_z, reg.grid.max_z);
+  // The reference grid is axis-aligned in the odometry frame, its cells the map's own: no
+  // resampling, the registration takes the heading into its initial guess.
+  reference_pose_ = scan_map_.windowPose(pose.translation());
+  reference_.build(
+      [&](std::uint32_t* count, float* sum) { scan_map_.fillWindow(reference_pose_, count, sum); },
+      reg.grid, reg.selection, reg.includeGround());
   has_reference_ = true;
 }
 

@@ -17,9 +17,20 @@ std::vector<ParamField<SlamParams>> fields() {
   const std::vector<ParamField<S>> own = {
       paramField("odometry", "reference", &S::odometry, &O::reference,
                  "what each scan is registered against: 0 = previous scan (the paper's "
-                 "frame-to-frame), 1 = last keyframe, 2 = local map of recent keyframes"),
+                 "frame-to-frame), 1 = last keyframe, 2 = local map of recent keyframes, 3 = "
+                 "world-fixed local height map of the last registered scans, updated every scan"),
       paramField("odometry", "local_map_keyframes", &S::odometry, &O::local_map_keyframes,
                  "keyframes fused into the local map (reference = 2)"),
+      paramField("odometry", "local_map_scans", &S::odometry, &O::local_map_scans,
+                 "registered scans in the local height map (reference = 3)"),
+      paramField("odometry", "sparse_scan_points", &S::odometry, &O::sparse_scan_points,
+                 "a first scan with fewer points is from a sparse sensor (VLP-16 ~26,000 per "
+                 "sweep, HDL-32 ~65,000, HDL-64 ~128,000) and gets the sparse grid below; 0: "
+                 "always the [grid] section"),
+      paramField("odometry", "sparse_resolution", &S::odometry, &O::sparse_resolution,
+                 "metres per cell of a sparse sensor's grid"),
+      paramField("odometry", "sparse_cells", &S::odometry, &O::sparse_cells,
+                 "cells per side of a sparse sensor's grid"),
       paramField("odometry", "max_prior_deviation", &S::odometry, &O::max_prior_deviation,
                  "metres; a registration farther than this from the constant-velocity "
                  "prediction (rotations counted at solver.rotation_scale) is rejected, the "

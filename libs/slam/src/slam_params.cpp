@@ -7,11 +7,19 @@ namespace dlo {
 std::string SlamParams::validate() const {
   if (std::string e = registration.validate(); !e.empty()) return e;
   const OdometryParams& o = odometry;
-  if (o.reference < 0 || o.reference > 2)
+  if (o.reference < 0 || o.reference > 3)
     return outOfRange("odometry.reference", o.reference,
-                      "0 (frame), 1 (keyframe) or 2 (local map)");
+                      "0 (frame), 1 (keyframe), 2 (keyframe map) or 3 (scan map)");
   if (o.local_map_keyframes < 1 || o.local_map_keyframes > 50)
     return outOfRange("odometry.local_map_keyframes", o.local_map_keyframes, "1..50");
+  if (o.local_map_scans < 1 || o.local_map_scans > 100)
+    return outOfRange("odometry.local_map_scans", o.local_map_scans, "1..100");
+  if (o.sparse_scan_points < 0)
+    return outOfRange("odometry.sparse_scan_points", o.sparse_scan_points, ">= 0 (0: off)");
+  if (!(o.sparse_resolution > 0.0 && o.sparse_resolution <= 5.0))
+    return outOfRange("odometry.sparse_resolution", o.sparse_resolution, "(0, 5] metres");
+  if (o.sparse_cells < 16 || o.sparse_cells > 4000)
+    return outOfRange("odometry.sparse_cells", o.sparse_cells, "16..4000");
   if (!(o.max_prior_deviation >= 0.0))
     return outOfRange("odometry.max_prior_deviation", o.max_prior_deviation,
                       ">= 0 metres (0: off)");

@@ -56,6 +56,7 @@ void SlamPipeline::process(double time, const PointCloud& points,
   timings_.selection.push_back(step.times.registration.selection_ms);
   timings_.solve.push_back(step.times.registration.solve_ms);
   timings_.keyframe.push_back(step.times.keyframe_ms);
+  timings_.local_map.push_back(step.times.local_map_ms);
   timings_.loop.push_back(loop_ms);
   if (counters_.frames == 1 || counters_.frames % kMemorySampleInterval == 0) sampleMemory();
 }

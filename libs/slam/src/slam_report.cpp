@@ -111,7 +111,8 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
   o << "  \"stages_ms\": {\"deskew\": " << stats(t.deskew) << ", \"grid\": " << stats(t.grid)
     << ", \"gradients\": " << stats(t.gradients) << ", \"selection\": " << stats(t.selection)
     << ", \"solve\": " << stats(t.solve) << ", \"keyframe\": " << stats(t.keyframe)
-    << ", \"loop_closure\": " << stats(t.loop) << "},\n";
+    << ", \"local_map\": " << stats(t.local_map) << ", \"loop_closure\": " << stats(t.loop)
+    << "},\n";
   o << "  \"loop_closures\": {\"accepted\": " << c.loops_accepted
     << ", \"rejected\": " << c.loops_rejected << ", \"optimisations\": " << c.optimisations
     << ", \"already_consistent\": " << c.loops_consistent << "},\n";
@@ -126,6 +127,7 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
   }
   o << "],\n";
   o << "  \"degenerate_frames\": " << c.degenerate_frames << ",\n";
+  o << "  \"sparse_sensor\": " << (pipeline.sparseSensor() ? "true" : "false") << ",\n";
   o << "  \"empty_frames\": " << c.empty_frames << ",\n";
   // Peak of the whole run so far (processing and export); the samples show how resident memory
   // evolved with the scans and how much of it the keyframes hold.

@@ -8,6 +8,7 @@
 
 #include "dlo/core/direct_aligner.h"
 #include "dlo/core/height_frame.h"
+#include "dlo/core/local_height_map.h"
 #include "dlo/core/weighted_cloud.h"
 #include "dlo/slam/slam_params.h"
 
@@ -16,9 +17,10 @@ namespace dlo {
 /// Time spent on one scan, milliseconds.
 struct OdometryTimes {
   double deskew_ms = 0.0;
-  StageTimes registration;   ///< the current frame's build (grid, gradients, selection) + solve
-  double keyframe_ms = 0.0;  ///< decimating a new keyframe and rebuilding the reference
-  double totalMs() const { return deskew_ms + registration.totalMs() + keyframe_ms; }
+  StageTimes registration;    ///< the current frame's build (grid, gradients, selection) + solve
+  double keyframe_ms = 0.0;   ///< decimating a new keyframe and rebuilding the reference
+  double local_map_ms = 0.0;  ///< reference = 3: adding the scan to the map, new reference
+  double totalMs() const { return deskew_ms + registration.totalMs() + keyframe_ms + local_map_ms; }
 };
 
 /// The outcome of one scan.
@@ -55,6 +57,12 @@ class LidarOdometry {
   OdometryStep process(double time, const PointCloud& points,
                        const std::vector<float>& point_times);
 
+  /// The parameters in use: the constructor's, with the sparse sensor's grid once the first
+  /// scan has shown one (see OdometryParams::sparse_scan_points).
+  const SlamParams& params() const { return params_; }
+  /// The first non-empty scan had fewer than odometry.sparse_scan_points points.
+  bool sparseSensor() const { return sparse_sensor_; }
+
   /// Current velocity estimate: body twist per second.
   const Vector6d& velocity() const { return velocity_; }
   size_t frames() const { return frames_; }
@@ -76,6 +84,11 @@ class LidarOdometry {
   bool needsKeyframe(const Eigen::Isometry3d& pose, const AlignmentResult& r) const;
   void addKeyframe(const Eigen::Isometry3d& pose, const PointCloud& points, OdometryStep& step);
   void rebuildLocalMap();
+  /// On the first non-empty scan: switches to the sparse sensor's grid if it has few points.
+  void adaptToSensor(size_t points);
+  /// reference = 3: adds a registered scan to the local height map and re-extracts the
+  /// reference around its pose.
+  void updateScanMap(const PointCloud& points, const Eigen::Isometry3d& pose);
   void redoFirstKeyframe(OdometryStep& step);
   /// A keyframe's points within map_range, decimated for the local map (`fine`,
   /// keyframe_voxel) and for the long-term map (`coarse`, map_voxel).
@@ -87,6 +100,7 @@ class LidarOdometry {
   HeightFrame reference_;  ///< previous scan, last keyframe or local map
   Eigen::Isometry3d reference_pose_ = Eigen::Isometry3d::Identity();  ///< odometry frame
   std::deque<RecentKeyframe> recent_;
+  LocalHeightMap scan_map_;  ///< reference = 3
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d last_keyframe_pose_ = Eigen::Isometry3d::Identity();
   Vector6d velocity_ = Vector6d::Zero();
@@ -101,6 +115,8 @@ class LidarOdometry {
   size_t velocity_updates_ = 0;  ///< scans the velocity was measured from
   int rejected_run_ = 0;         ///< consecutive rejected registrations
   bool has_reference_ = false;
+  bool sensor_checked_ = false;
+  bool sparse_sensor_ = false;
 };
 
 }  // namespace dlo

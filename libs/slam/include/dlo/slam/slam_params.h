@@ -12,9 +12,19 @@ namespace dlo {
 /// Odometry and keyframes (INI section [odometry]).
 struct OdometryParams {
   /// What each scan is registered against: 0 = the previous scan (the paper's frame-to-frame),
-  /// 1 = the last keyframe, 2 = a local height map fused from the last `local_map_keyframes`.
-  int reference = 2;
+  /// 1 = the last keyframe, 2 = a local height map fused from the last `local_map_keyframes`,
+  /// 3 = a world-fixed local height map of the last `local_map_scans` registered scans, updated
+  /// every scan (dlo::LocalHeightMap; what sparse sensors need).
+  int reference = 3;
   int local_map_keyframes = 4;  ///< keyframes fused into the local map (reference = 2)
+  int local_map_scans = 30;     ///< registered scans in the local height map (reference = 3)
+  /// A first scan with fewer points than this comes from a sparse sensor (a simulated VLP-16
+  /// sweep has about 26,000 points, an HDL-32 one 65,000, an HDL-64 one 128,000): its rings are too
+  /// far apart for the [grid] cells, so the grid becomes sparse_cells x sparse_cells cells of
+  /// sparse_resolution. 0: the [grid] section is always used as it is.
+  int sparse_scan_points = 80000;
+  double sparse_resolution = 0.2;  ///< metres per cell for a sparse sensor
+  int sparse_cells = 300;          ///< cells per side for a sparse sensor (60 m at 0.2 m)
   /// Metres: a registration farther than this from the constant-velocity prediction (rotations
   /// counted as their displacement at solver.rotation_scale) is rejected, the prediction kept
   /// and the scan flagged degenerate; 0 disables.
