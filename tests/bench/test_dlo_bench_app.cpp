@@ -1,6 +1,7 @@
 // dlo-bench end to end: the built binary on a short simulated HDL-64 drive, every method, and
 // the command-line and input errors.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include "../test_process.h"
 
@@ -54,7 +55,8 @@ class DloBenchApp : public ::testing::Test {
   static constexpr int kSlowFrames = 5;
 
   static void SetUpTestSuite() {
-    dir_ = new fs::path(fs::temp_directory_path() / "dlo_bench_app_test");
+    dir_ = new fs::path(fs::temp_directory_path() /
+                        ("dlo_bench_app_test_" + std::to_string(::getpid())));
     fs::remove_all(*dir_);
     fs::create_directories(*dir_);
     const std::string sim = std::string(DLO_SIMULATE_BINARY) + " --out " + dir_->string() +

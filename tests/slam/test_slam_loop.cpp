@@ -6,6 +6,7 @@
 #include <mrpt/maps/CHeightGridMap2D.h>
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/serialization/CArchive.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -28,7 +29,8 @@ namespace fs = std::filesystem;
 class SimulatedLoop : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new fs::path(fs::temp_directory_path() / "dlo_slam_loop_test");
+    dir_ = new fs::path(fs::temp_directory_path() /
+                        ("dlo_slam_loop_test_" + std::to_string(::getpid())));
     fs::remove_all(*dir_);
     fs::create_directories(*dir_);
     const std::string cmd = std::string(DLO_SIMULATE_BINARY) + " --out " + dir_->string() +

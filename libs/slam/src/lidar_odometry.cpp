@@ -90,7 +90,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     // vertical, roll and pitch rates are small and their per-scan estimates noisy; z, roll and
     // pitch are observed afresh from the ground.
     v(2) = v(3) = v(4) = 0.0;
-    velocity_ = v;
+    velocity_ = velocity_updates_ >= kSettledVelocityUpdates ? limitAcceleration(v, dt) : v;
     ++velocity_updates_;
   }
   if (frames_ == 1 && !first_points_.empty()) redoFirstKeyframe(step);
@@ -141,8 +141,31 @@ bool LidarOdometry::implausible(double deviation) const {
   // Only against a velocity measured past the start (whose first scans, registered without a
   // velocity or against an undeskewed scan, legitimately jump by 0.3 m), and not for ever:
   // after a run of rejections it is the prediction that has probably gone wrong.
+  // Each rejection makes the prediction older, so the bound widens with the run: a vehicle
+  // entering a turn during a run is then caught again before the prediction has lagged into
+  // another basin (sparse drives ended in a runaway spin otherwise).
   return o.max_prior_deviation > 0.0 && velocity_updates_ >= kSettledVelocityUpdates &&
-         rejected_run_ < o.max_rejected_scans && deviation > o.max_prior_deviation;
+         rejected_run_ < o.max_rejected_scans &&
+         deviation > o.max_prior_deviation * (1.0 + rejected_run_);
+}
+
+Vector6d LidarOdometry::limitAcceleration(const Vector6d& measured, double dt) const {
+  // A wrong registration that slips through becomes a pose error; without this it also
+  // became a velocity error, and every later prediction started from it (a simulated VLP-16
+  // drive spun up to 60 m/s and 60 deg/s and never recovered).
+  const OdometryParams& o = params_.odometry;
+  Vector6d v = measured;
+  if (o.max_acceleration > 0.0) {
+    Eigen::Vector2d dv = v.head<2>() - velocity_.head<2>();
+    const double most = o.max_acceleration * dt;
+    if (dv.norm() > most) dv *= most / dv.norm();
+    v.head<2>() = velocity_.head<2>() + dv;
+  }
+  if (o.max_yaw_acceleration > 0.0) {
+    const double most = o.max_yaw_acceleration * kDeg * dt;
+    v(5) = velocity_(5) + std::clamp(v(5) - velocity_(5), -most, most);
+  }
+  return v;
 }
 
 void LidarOdometry::keepPrediction(const Eigen::Isometry3d& predicted, AlignmentResult& r) const {

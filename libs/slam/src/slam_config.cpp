@@ -34,7 +34,13 @@ std::vector<ParamField<SlamParams>> fields() {
       paramField("odometry", "max_prior_deviation", &S::odometry, &O::max_prior_deviation,
                  "metres; a registration farther than this from the constant-velocity "
                  "prediction (rotations counted at solver.rotation_scale) is rejected, the "
-                 "prediction kept and the scan flagged; 0: off"),
+                 "prediction kept and the scan flagged; the bound grows by as much with each "
+                 "consecutive rejection; 0: off"),
+      paramField("odometry", "max_acceleration", &S::odometry, &O::max_acceleration,
+                 "m/s^2; the velocity carried to the next scan changes by at most this per "
+                 "second; 0: no limit"),
+      paramField("odometry", "max_yaw_acceleration", &S::odometry, &O::max_yaw_acceleration,
+                 "deg/s^2; likewise for the yaw rate; 0: no limit"),
       paramField("odometry", "max_rejected_scans", &S::odometry, &O::max_rejected_scans,
                  "consecutive rejected scans after which registrations are believed again"),
       paramField("odometry", "keyframe_distance", &S::odometry, &O::keyframe_distance,

@@ -23,6 +23,11 @@ std::string SlamParams::validate() const {
   if (!(o.max_prior_deviation >= 0.0))
     return outOfRange("odometry.max_prior_deviation", o.max_prior_deviation,
                       ">= 0 metres (0: off)");
+  if (!(o.max_acceleration >= 0.0))
+    return outOfRange("odometry.max_acceleration", o.max_acceleration, ">= 0 m/s^2 (0: off)");
+  if (!(o.max_yaw_acceleration >= 0.0))
+    return outOfRange("odometry.max_yaw_acceleration", o.max_yaw_acceleration,
+                      ">= 0 deg/s^2 (0: off)");
   if (!(o.max_rejected_scans >= 1))
     return outOfRange("odometry.max_rejected_scans", o.max_rejected_scans, ">= 1 scan");
   if (!(o.keyframe_distance > 0.0))

@@ -77,6 +77,9 @@ class LidarOdometry {
   double deviationFrom(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& pose) const;
   /// A registered pose that far from the prediction is not to be believed (see OdometryStep).
   bool implausible(double deviation) const;
+  /// The measured velocity, its change since the last one limited to the vehicle's
+  /// odometry.max_acceleration and max_yaw_acceleration over `dt`.
+  Vector6d limitAcceleration(const Vector6d& measured, double dt) const;
   /// Replaces a rejected registration by the prediction.
   void keepPrediction(const Eigen::Isometry3d& predicted, AlignmentResult& r) const;
   /// The current scan has enough selected cells (solver.min_cells) to become a keyframe.

@@ -27,8 +27,15 @@ struct OdometryParams {
   int sparse_cells = 300;          ///< cells per side for a sparse sensor (60 m at 0.2 m)
   /// Metres: a registration farther than this from the constant-velocity prediction (rotations
   /// counted as their displacement at solver.rotation_scale) is rejected, the prediction kept
-  /// and the scan flagged degenerate; 0 disables.
+  /// and the scan flagged degenerate; the bound grows by as much with every consecutive
+  /// rejection (the prediction ages); 0 disables.
   double max_prior_deviation = 0.3;
+  /// m/s^2: the velocity carried to the next scan changes by at most this per second (a car
+  /// brakes at up to about 10); 0: no limit.
+  double max_acceleration = 10.0;
+  /// deg/s^2: likewise for the yaw rate (entering a 10 m radius turn at 8 m/s takes about 50);
+  /// 0: no limit.
+  double max_yaw_acceleration = 120.0;
   /// Consecutive rejected scans after which registrations are believed again: by then the
   /// prediction is the more likely culprit.
   int max_rejected_scans = 5;
