@@ -217,9 +217,7 @@ TEST(DegenerateScenes, AnOpenFieldIsFlaggedAndDrivenOnTheMotionPrior) {
   // road (26 m with a prior of standing still; 1.9 m across and 4 deg when the scans leaving
   // the street could move the pose along what they did not observe).
   EXPECT_LT(f[36].positionError(), 3.0);
-  // 1.34 deg with the scan map as the reference: the last scans before the field (50-110
-  // cells) left a yaw-rate error of 0.05 deg per scan, which the prior carries over 25 scans.
-  EXPECT_LT(std::abs(f[36].yawErrorDeg()), 1.5);
+  EXPECT_LT(std::abs(f[36].yawErrorDeg()), 1.0);
   // Structure returns: registered normally again, and the error stops growing.
   for (int k = 48; k < 60; ++k) {
     SCOPED_TRACE("scan " + std::to_string(k));
@@ -247,10 +245,7 @@ TEST(DegenerateScenes, ACorridorKeepsThePriorAlongItsAxisAndRecoversAfterIt) {
   for (int k = 26; k <= 44; ++k) {
     SCOPED_TRACE("scan " + std::to_string(k));
     EXPECT_TRUE(f[k].step.registration.degenerate);
-    // Along the corridor: the prior. Within 2 cm rather than 1 since the reference became the
-    // map of the last 30 scans (odometry.reference = 3): on entering, it still holds the street
-    // behind, which gives the walls a faint along-corridor gradient (scan 27 moved 1.8 cm).
-    EXPECT_LT(std::abs(f[k].correction().x()), 0.02);
+    EXPECT_LT(std::abs(f[k].correction().x()), 0.01);  // along the corridor: the prior
   }
   for (int k = 0; k < 75; ++k) {
     SCOPED_TRACE("scan " + std::to_string(k));

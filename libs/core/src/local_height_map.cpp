@@ -47,7 +47,19 @@ void LocalHeightMap::insert(const PointCloud& points, const Eigen::Isometry3d& p
   const float half_y = static_cast<float>(0.5 * window_rows_ * resolution_);
   const float zlo = static_cast<float>(min_z);
   const float zhi = static_cast<float>(max_z);
-  const double inv_res = 1.0 / resolution_;
+  const float inv_res = static_cast<float>(1.0 / resolution_);
+  // Cells are counted from a corner `span_ / 2` cells before the vehicle, so that every point
+  // of the window falls in [0, span_) and the torus index needs no division: one wrap.
+  const std::int64_t gx0 =
+      static_cast<std::int64_t>(std::floor(pose.translation().x() / resolution_)) - span_ / 2;
+  const std::int64_t gy0 =
+      static_cast<std::int64_t>(std::floor(pose.translation().y() / resolution_)) - span_ / 2;
+  const std::uint32_t corner = cellIndex(gx0, gy0);
+  const int cx = static_cast<int>(corner % static_cast<std::uint32_t>(span_));
+  const int cy = static_cast<int>(corner / static_cast<std::uint32_t>(span_));
+  const float ox = static_cast<float>(gx0 * resolution_);
+  const float oy = static_cast<float>(gy0 * resolution_);
+  scan.deltas.reserve(points.size() / 4);
   // The scan's own counts and sums per cell first (slot_ finds a cell's entry), so that it can
   // be subtracted exactly when it is evicted.
   for (const Eigen::Vector3f& p : points) {
@@ -57,8 +69,14 @@ void LocalHeightMap::insert(const PointCloud& points, const Eigen::Isometry3d& p
       continue;
     }
     const Eigen::Vector3f q = T * p;
-    const std::uint32_t k = cellIndex(static_cast<std::int64_t>(std::floor(q.x() * inv_res)),
-                                      static_cast<std::int64_t>(std::floor(q.y() * inv_res)));
+    int x = static_cast<int>((q.x() - ox) * inv_res);
+    int y = static_cast<int>((q.y() - oy) * inv_res);
+    // Rounding at the window's far corner could reach the span itself.
+    x = std::min(std::max(x, 0), span_ - 1) + cx;
+    y = std::min(std::max(y, 0), span_ - 1) + cy;
+    x -= x >= span_ ? span_ : 0;
+    y -= y >= span_ ? span_ : 0;
+    const std::uint32_t k = static_cast<std::uint32_t>(y * span_ + x);
     if (slot_[k] == 0) {
       scan.deltas.push_back(Delta{k, 0u, 0.0f});
       slot_[k] = static_cast<std::uint32_t>(scan.deltas.size());

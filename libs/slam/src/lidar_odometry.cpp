@@ -262,6 +262,7 @@ void LidarOdometry::adaptToSensor(size_t points) {
   HeightGridParams& g = params_.registration.grid;
   g.resolution = o.sparse_resolution;
   g.cols = g.rows = o.sparse_cells;
+  params_.odometry.reference = o.sparse_reference;
   scan_map_ = LocalHeightMap(g.resolution, g.cols, g.rows, o.local_map_scans);
   sparse_sensor_ = true;
 }

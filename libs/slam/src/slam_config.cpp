@@ -31,6 +31,8 @@ std::vector<ParamField<SlamParams>> fields() {
                  "metres per cell of a sparse sensor's grid"),
       paramField("odometry", "sparse_cells", &S::odometry, &O::sparse_cells,
                  "cells per side of a sparse sensor's grid"),
+      paramField("odometry", "sparse_reference", &S::odometry, &O::sparse_reference,
+                 "reference (as odometry.reference) for a sparse sensor: 3, the scan map"),
       paramField("odometry", "max_prior_deviation", &S::odometry, &O::max_prior_deviation,
                  "metres; a registration farther than this from the constant-velocity "
                  "prediction (rotations counted at solver.rotation_scale) is rejected, the "
