@@ -16,8 +16,9 @@ HeightGrid HeightGrid::fromPoints(const PointCloud& points, const GridGeometry& 
 
 namespace {
 
-/// Bins points into `count` and `sum` in one pass. `get(item, p, n)` yields a point in the grid
-/// frame and how many raw points it stands for; written so that NaN fails every comparison.
+/// Bins points into `count` and `sum` in one pass. `get(items, i, p, n)` yields item i as a point
+/// in the grid frame and how many raw points it stands for; written so that NaN fails every
+/// comparison.
 template <typename Range, typename Get>
 void accumulate(const Range& items, Get get, const GridGeometry& geometry, double min_z,
                 double max_z, std::uint32_t* count, float* sum) {
@@ -30,8 +31,8 @@ void accumulate(const Range& items, Get get, const GridGeometry& geometry, doubl
   const float zhi = static_cast<float>(max_z);
   Eigen::Vector3f p;
   std::uint32_t n = 1;
-  for (const auto& item : items) {
-    get(item, p, n);
+  for (size_t i = 0; i < items.size(); ++i) {
+    get(items, i, p, n);
     const float u = (p.x() - x0) * inv_res;
     const float v = (p.y() - y0) * inv_res;
     if (!(u >= 0.0f && u < cols && v >= 0.0f && v < rows && p.z() >= zlo && p.z() <= zhi)) {
@@ -47,13 +48,28 @@ void accumulate(const Range& items, Get get, const GridGeometry& geometry, doubl
 
 void HeightGrid::rasterise(const PointCloud& points, const GridGeometry& geometry, int min_points,
                            double min_z, double max_z) {
+  rasterise(points, SweepMotion(), geometry, min_points, min_z, max_z);
+}
+
+void HeightGrid::rasterise(const PointCloud& points, const SweepMotion& motion,
+                           const GridGeometry& geometry, int min_points, double min_z,
+                           double max_z) {
   geometry_ = geometry;
   min_points_ = min_points;
   count_.assign(geometry.cellCount(), 0u);
   sum_z_.assign(geometry.cellCount(), 0.0f);
-  accumulate(
-      points, [](const Eigen::Vector3f& q, Eigen::Vector3f& p, std::uint32_t&) { p = q; }, geometry,
-      min_z, max_z, count_.data(), sum_z_.data());
+  if (motion.fits(points.size())) {
+    accumulate(
+        points,
+        [&motion](const PointCloud& c, size_t i, Eigen::Vector3f& p, std::uint32_t&) {
+          p = motion.apply(i, c[i]);
+        },
+        geometry, min_z, max_z, count_.data(), sum_z_.data());
+  } else {
+    accumulate(
+        points, [](const PointCloud& c, size_t i, Eigen::Vector3f& p, std::uint32_t&) { p = c[i]; },
+        geometry, min_z, max_z, count_.data(), sum_z_.data());
+  }
   finalise();
 }
 
@@ -73,9 +89,9 @@ void HeightGrid::rasterise(const std::vector<PosedCloud>& parts, const GridGeome
     const Eigen::Isometry3f T = part.pose.cast<float>();
     accumulate(
         *part.cloud,
-        [&T](const WeightedPoint& w, Eigen::Vector3f& p, std::uint32_t& n) {
-          p = T * w.p;
-          n = w.n;
+        [&T](const WeightedCloud& c, size_t i, Eigen::Vector3f& p, std::uint32_t& n) {
+          p = T * c[i].p;
+          n = c[i].n;
         },
         geometry, min_z, max_z, count_.data(), sum_z_.data());
   }

@@ -7,6 +7,7 @@
 #include <opencv2/core/mat.hpp>
 #include <vector>
 
+#include "dlo/core/deskew.h"
 #include "dlo/core/grid_geometry.h"
 #include "dlo/core/point_cloud.h"
 #include "dlo/core/weighted_cloud.h"
@@ -45,6 +46,11 @@ class HeightGrid {
   /// In-place form of fromPoints(): reuses this grid's memory, for streaming.
   void rasterise(const PointCloud& points, const GridGeometry& geometry, int min_points,
                  double min_z, double max_z);
+  /// Rasterises a sweep deskewed on the fly: point i counts at motion.apply(i, points[i]), the
+  /// same as rasterising deskew(points, motion) without writing and re-reading that copy.
+  /// `motion` is ignored unless it fits the cloud (SweepMotion::fits).
+  void rasterise(const PointCloud& points, const SweepMotion& motion, const GridGeometry& geometry,
+                 int min_points, double min_z, double max_z);
 
   /// Rasterises weighted points (voxel centroids with counts) seen from `pose`: each point is
   /// mapped by pose * p into the grid frame and counts n times. Used to rebuild keyframe grids
