@@ -179,29 +179,42 @@ void HeightGrid::finalise() {
   support_ = valid_;
 }
 
-void HeightGrid::fillHolesFrom(const HeightGrid& coarser) {
-  // Coarse heights premultiplied by support, with a one-cell border of zeros, so the inner loop
-  // is branch-free: height = sum(w*s*h) / sum(w*s) over the four surrounding coarse cells.
-  const GridGeometry& cg = coarser.geometry_;
-  if (cg.cols != (geometry_.cols + 1) / 2 || cg.rows != (geometry_.rows + 1) / 2 ||
-      std::abs(cg.resolution - 2.0 * geometry_.resolution) > 1e-9 * cg.resolution ||
-      std::abs(cg.x_min - geometry_.x_min) > 1e-6 || std::abs(cg.y_min - geometry_.y_min) > 1e-6) {
-    throw std::invalid_argument("HeightGrid::fillHolesFrom needs the grid's own coarser() level");
-  }
-  const int pc = cg.cols + 2;
-  // Scratch kept across calls: streaming frames should not hand memory back to the system.
-  thread_local std::vector<float> sh, s, vs, vh;
-  sh.assign(static_cast<size_t>(pc) * (cg.rows + 2), 0.0f);
-  s.assign(sh.size(), 0.0f);
-  for (int r = 0; r < cg.rows; ++r) {
-    for (int c = 0; c < cg.cols; ++c) {
-      const int j = r * cg.cols + c;
-      if (!coarser.support_[j]) continue;
-      const int k = (r + 1) * pc + (c + 1);
-      s[k] = 1.0f;
-      sh[k] = coarser.height_[j];
+void HeightGrid::preparePull(PullSource& out) const {
+  const GridGeometry& g = geometry_;
+  out.geometry = g;
+  out.cols = g.cols + 2;
+  const size_t padded_rows = static_cast<size_t>(g.rows) + 2;
+  out.support.resize(static_cast<size_t>(out.cols) * padded_rows);
+  out.height.resize(out.support.size());
+  float* __restrict__ s = out.support.data();
+  float* __restrict__ h = out.height.data();
+  // Only the border is zeroed separately; the interior is written branch-free.
+  std::fill_n(s, out.cols, 0.0f);
+  std::fill_n(h, out.cols, 0.0f);
+  std::fill_n(s + (padded_rows - 1) * out.cols, out.cols, 0.0f);
+  std::fill_n(h + (padded_rows - 1) * out.cols, out.cols, 0.0f);
+  for (int r = 0; r < g.rows; ++r) {
+    const std::uint8_t* __restrict__ sup = support_.data() + r * g.cols;
+    const float* __restrict__ hr = height_.data() + r * g.cols;
+    float* __restrict__ srow = s + (r + 1) * out.cols;
+    float* __restrict__ hrow = h + (r + 1) * out.cols;
+    srow[0] = hrow[0] = srow[g.cols + 1] = hrow[g.cols + 1] = 0.0f;
+    for (int c = 0; c < g.cols; ++c) {
+      srow[c + 1] = sup[c] ? 1.0f : 0.0f;
+      hrow[c + 1] = sup[c] ? hr[c] : 0.0f;
     }
   }
+}
+
+void HeightGrid::fillHolesFrom(const HeightGrid& coarser) {
+  if (!isCoarserLevel(coarser)) {
+    throw std::invalid_argument("HeightGrid::fillHolesFrom needs the grid's own coarser() level");
+  }
+  // Scratch kept across calls: streaming frames should not hand memory back to the system.
+  thread_local PullSource source;
+  coarser.preparePull(source);
+  const int pc = source.cols;
+  thread_local std::vector<float> vs, vh;
   // A fine cell centre lies a quarter of a coarse cell from the coarse centres around it, so
   // the bilinear weights are 3/4 and 1/4; its padded coarse cell is (r+1)/2, (c+1)/2.
   // Per fine row: blend the two coarse rows around it (weights 3/4, 1/4), then blend
@@ -223,8 +236,8 @@ void HeightGrid::fillHolesFrom(const HeightGrid& coarser) {
   float* __restrict__ fo = fill_odd.data();
   float* __restrict__ ke = ok_even.data();
   float* __restrict__ ko = ok_odd.data();
-  const float* ps = s.data();
-  const float* psh = sh.data();
+  const float* ps = source.support.data();
+  const float* psh = source.height.data();
   const int cols = geometry_.cols;
   for (int r = 0; r < geometry_.rows; ++r) {
     const int pr0 = (r + 1) / 2;  // padded coarse row of the lower neighbour
@@ -265,6 +278,41 @@ void HeightGrid::fillHolesFrom(const HeightGrid& coarser) {
       srow[c] = static_cast<std::uint8_t>(vrow[c] | (fill ? 1u : 0u));
     }
   }
+}
+
+bool HeightGrid::isCoarserLevel(const HeightGrid& coarser) const {
+  const GridGeometry& cg = coarser.geometry_;
+  return cg.cols == (geometry_.cols + 1) / 2 && cg.rows == (geometry_.rows + 1) / 2 &&
+         std::abs(cg.resolution - 2.0 * geometry_.resolution) <= 1e-9 * cg.resolution &&
+         std::abs(cg.x_min - geometry_.x_min) <= 1e-6 &&
+         std::abs(cg.y_min - geometry_.y_min) <= 1e-6;
+}
+
+bool HeightGrid::pulledHeight(int row, int col, const PullSource& source, float& h) const {
+  if (support_[index(row, col)]) {
+    h = height_[index(row, col)];
+    return true;
+  }
+  // fillHolesFrom() for one cell, with the same operations in the same order so that both
+  // give the same float: blend the two padded coarse rows around the fine row, then two of
+  // those column blends.
+  const int pc = source.cols;
+  const int pr0 = (row + 1) / 2;
+  const float b = (row % 2 == 0) ? 0.75f : 0.25f;
+  const float* s0 = source.support.data() + pr0 * pc;
+  const float* h0 = source.height.data() + pr0 * pc;
+  auto vs = [&](int j) { return (1 - b) * s0[j] + b * s0[j + pc]; };
+  auto vh = [&](int j) { return (1 - b) * h0[j] + b * h0[j + pc]; };
+  // Fine column col lies between padded coarse columns a and a + 1: 3/4 of the way for an even
+  // column, 1/4 for an odd one. Chosen without a branch: the parity of neighbouring cells is
+  // as good as random for a branch predictor.
+  const int a = (col + 1) / 2;
+  const float wl = (col & 1) != 0 ? 0.75f : 0.25f;
+  const float wr = 1.0f - wl;  // exact: 0.25 or 0.75
+  const float w = wl * vs(a) + wr * vs(a + 1);
+  const float sum = wl * vh(a) + wr * vh(a + 1);
+  h = sum / std::max(w, 0.5f);
+  return w >= 0.5f;
 }
 
 cv::Mat HeightGrid::heightImage() const {

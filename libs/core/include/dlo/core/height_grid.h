@@ -25,6 +25,17 @@ struct HeightGridParams {
   int levels = 4;            ///< pyramid levels; level k has cells 2^k times larger
 };
 
+/// A coarse level laid out for the "pull" of hole filling (HeightGrid::fillHolesFrom and
+/// pulledHeight): support (0 or 1) and support-weighted height per cell, with a one-cell border
+/// of zeros, so that the interpolation needs neither branches nor bounds checks: height =
+/// sum(w*s*h) / sum(w*s) over the four surrounding coarse cells.
+struct PullSource {
+  GridGeometry geometry;       ///< of the coarse level, without the border
+  int cols = 0;                ///< padded columns: geometry.cols + 2
+  std::vector<float> support;  ///< (geometry.rows + 2) x cols, row-major
+  std::vector<float> height;   ///< support * mean height, same layout
+};
+
 /// One level of mean heights. Built in a single pass over the points, accumulating a count and a
 /// sum of heights per cell in flat arrays; coarser levels pool 2x2 blocks of those sums, so the
 /// mean of a coarse cell is exactly the mean of the points falling in it.
@@ -80,6 +91,17 @@ class HeightGrid {
   /// neighbourhood without inventing edges against "zero height". Measured cells are untouched
   /// and remain the only ones isValid().
   void fillHolesFrom(const HeightGrid& coarser);
+
+  /// This grid (as the coarser level of another) laid out for pulledHeight().
+  void preparePull(PullSource& out) const;
+  /// The height fillHolesFrom(coarser) would leave in one cell, without filling the grid: the
+  /// cell's own height where hasSupport(), else the pulled estimate. False where the cell would
+  /// stay empty. Lets a scan that is only registered, never a reference, fill just the
+  /// neighbours of its measured cells. `source` comes from coarser.preparePull(), with
+  /// isCoarserLevel(coarser) (unchecked).
+  bool pulledHeight(int row, int col, const PullSource& source, float& h) const;
+  /// True when `coarser` has this grid's coarser() geometry (what fillHolesFrom() requires).
+  bool isCoarserLevel(const HeightGrid& coarser) const;
 
   const GridGeometry& geometry() const { return geometry_; }
   int cols() const { return geometry_.cols; }
