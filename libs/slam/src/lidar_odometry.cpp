@@ -43,13 +43,18 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   const Eigen::Isometry3d predicted =
       dt > 0.0 && dt < 1.0 ? last_pose_ * expSE3(velocity_ * dt) : last_pose_;
 
+  // The sweep is deskewed while it is rasterised, not copied: deskew_ms is the motion table
+  // only, grid_ms includes moving the points. The deskewed cloud itself is made only for a
+  // keyframe.
   Stopwatch deskew_watch;
   const bool deskew = params_.odometry.deskew != 0 && !point_times.empty() && frames_ > 0;
-  const PointCloud deskewed = deskew ? dlo::deskew(points, point_times, velocity_) : PointCloud();
+  const SweepMotion motion = deskew ? SweepMotion(point_times, velocity_) : SweepMotion();
   step.times.deskew_ms = deskew_watch.elapsedMs();
 
-  const PointCloud* cloud = deskew ? &deskewed : &points;
-  current_.build(*cloud, reg.grid, reg.selection, reg.includeGround());
+  // Frame to frame, this scan becomes the next reference; otherwise it never is one.
+  const FrameUse use =
+      params_.odometry.reference == 0 ? FrameUse::kCurrentAndReference : FrameUse::kCurrentOnly;
+  current_.build(points, motion, reg.grid, reg.selection, reg.includeGround(), use);
   step.times.registration = current_.buildTimes();
 
   Eigen::Isometry3d pose = predicted;
@@ -98,7 +103,11 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   Stopwatch keyframe_watch;
   const bool first = frames_ == 0;
   if (!current_.empty() && (first || (hasStructure() && needsKeyframe(pose, step.registration)))) {
-    addKeyframe(pose, *cloud, step);
+    if (motion.fits(points.size())) {
+      addKeyframe(pose, dlo::deskew(points, motion), step);
+    } else {
+      addKeyframe(pose, points, step);
+    }
     if (first && params_.odometry.deskew != 0 && !point_times.empty()) {
       first_points_ = points;
       first_times_ = point_times;
