@@ -165,15 +165,27 @@ void HeightGrid::finalise() {
   const int n = geometry_.cellCount();
   height_.resize(n);
   valid_.resize(n);
-  const std::uint32_t need = static_cast<std::uint32_t>(min_points_ < 1 ? 1 : min_points_);
+  // Signed counts throughout: SSE2 converts and compares signed integers in one instruction,
+  // unsigned ones not (a cell never holds 2^31 points). Raw restrict pointers and one output
+  // type per loop, so that both loops vectorise.
+  const std::int32_t need = std::max(min_points_, 1);
+  const std::int32_t* __restrict__ cnt = reinterpret_cast<const std::int32_t*>(count_.data());
+  const float* __restrict__ sum = sum_z_.data();
+  float* __restrict__ height = height_.data();
+  std::uint8_t* __restrict__ valid = valid_.data();
+  for (int i = 0; i < n; ++i) {
+    // Divided unconditionally, by 1 where the cell is invalid, and masked by a product, all
+    // with integer masks: the compiler does not speculate a division (it might trap), and
+    // turns any conditional it can see back into a branch around it, which keeps the loop
+    // scalar. "+ 0.0f" turns -0 into 0.
+    const std::int32_t ok = -static_cast<std::int32_t>(cnt[i] >= need);  // all ones if valid
+    const float mean = sum[i] / static_cast<float>((cnt[i] & ok) | (1 & ~ok));
+    height[i] = static_cast<float>(ok & 1) * mean + 0.0f;
+  }
   int valid_cells = 0;
   for (int i = 0; i < n; ++i) {
-    const bool ok = count_[i] >= need;
-    // Through int: SSE2 converts signed integers to float in one instruction, unsigned not.
-    const float cnt = static_cast<float>(static_cast<std::int32_t>(count_[i]));
-    height_[i] = ok ? sum_z_[i] / std::max(cnt, 1.0f) : 0.0f;
-    valid_[i] = ok ? 1u : 0u;
-    valid_cells += ok ? 1 : 0;
+    valid[i] = cnt[i] >= need ? 1u : 0u;
+    valid_cells += valid[i];
   }
   valid_cells_ = valid_cells;
   support_ = valid_;
