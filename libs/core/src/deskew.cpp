@@ -12,7 +12,7 @@ SweepMotion::SweepMotion(const std::vector<float>& times, const Vector6d& veloci
   const float span = std::max(hi - lo, 1e-9f);
   times_ = &times;
   lo_ = lo;
-  scale_ = static_cast<float>(bins) / span;
+  span_ = span;
   bins_ = bins;
   motion_.resize(static_cast<size_t>(bins) + 1);
   for (int b = 0; b <= bins; ++b) {

@@ -35,16 +35,18 @@ class SweepMotion {
   /// Point `p`, measured at times[i], expressed in the vehicle frame at t = 0. Only valid
   /// when !empty().
   Eigen::Vector3f apply(size_t i, const Eigen::Vector3f& p) const {
-    // Rounding by truncation of f + 1/2 (f >= 0): std::lround is a library call per point.
-    const float f = ((*times_)[i] - lo_) * scale_ + 0.5f;
-    const int b = std::clamp(static_cast<int>(f), 0, bins_);
+    // The nearest bin, as std::lround would round (half away from zero) but without a library
+    // call per point: f - trunc(f) is exact for these magnitudes.
+    const float f = ((*times_)[i] - lo_) / span_ * static_cast<float>(bins_);
+    const int t = static_cast<int>(f);
+    const int b = std::clamp(t + (f - static_cast<float>(t) >= 0.5f ? 1 : 0), 0, bins_);
     return motion_[static_cast<size_t>(b)] * p;
   }
 
  private:
   const std::vector<float>* times_ = nullptr;
   float lo_ = 0.0f;
-  float scale_ = 0.0f;  ///< bins per second
+  float span_ = 1.0f;  ///< seconds from the first to the last time
   int bins_ = 0;
   std::vector<Eigen::Isometry3f> motion_;  ///< pose of bin b, bins + 1 entries
 };
