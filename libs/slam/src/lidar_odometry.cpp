@@ -44,8 +44,8 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
       dt > 0.0 && dt < 1.0 ? last_pose_ * expSE3(velocity_ * dt) : last_pose_;
 
   // The sweep is deskewed while it is rasterised, not copied: deskew_ms is the motion table
-  // only, grid_ms includes moving the points. The deskewed cloud itself is made only for a
-  // keyframe.
+  // only, grid_ms includes moving the points. The scan map applies the same motion as it
+  // inserts the scan; the deskewed cloud itself is made only for a keyframe.
   Stopwatch deskew_watch;
   const bool deskew = params_.odometry.deskew != 0 && !point_times.empty() && frames_ > 0;
   const SweepMotion motion = deskew ? SweepMotion(point_times, velocity_) : SweepMotion();
@@ -125,7 +125,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   if (params_.odometry.reference == 3 && !current_.empty() &&
       (first || (step.registered && !step.rejected))) {
     Stopwatch map_watch;
-    updateScanMap(*cloud, pose);
+    updateScanMap(points, motion, pose);
     step.times.local_map_ms = map_watch.elapsedMs();
   }
 
@@ -275,9 +275,10 @@ void LidarOdometry::adaptToSensor(size_t points) {
   sparse_sensor_ = true;
 }
 
-void LidarOdometry::updateScanMap(const PointCloud& points, const Eigen::Isometry3d& pose) {
+void LidarOdometry::updateScanMap(const PointCloud& points, const SweepMotion& motion,
+                                  const Eigen::Isometry3d& pose) {
   const DloParams& reg = params_.registration;
-  scan_map_.insert(points, pose, reg.grid.min_z, reg.grid.max_z);
+  scan_map_.insert(points, motion, pose, reg.grid.min_z, reg.grid.max_z);
   // The reference grid is axis-aligned in the odometry frame, its cells the map's own: no
   // resampling, the registration takes the heading into its initial guess.
   reference_pose_ = scan_map_.windowPose(pose.translation());
