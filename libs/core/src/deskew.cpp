@@ -28,10 +28,18 @@ PointCloud deskew(const PointCloud& points, const std::vector<float>& times,
 }
 
 PointCloud deskew(const PointCloud& points, const SweepMotion& motion) {
-  if (!motion.fits(points.size())) return points;
-  PointCloud out(points.size());
-  for (size_t i = 0; i < points.size(); ++i) out[i] = motion.apply(i, points[i]);
+  PointCloud out;
+  deskew(points, motion, out);
   return out;
+}
+
+void deskew(const PointCloud& points, const SweepMotion& motion, PointCloud& out) {
+  if (!motion.fits(points.size())) {
+    out = points;
+    return;
+  }
+  out.resize(points.size());
+  for (size_t i = 0; i < points.size(); ++i) out[i] = motion.apply(i, points[i]);
 }
 
 }  // namespace dlo

@@ -43,18 +43,24 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   const Eigen::Isometry3d predicted =
       dt > 0.0 && dt < 1.0 ? last_pose_ * expSE3(velocity_ * dt) : last_pose_;
 
-  // The sweep is deskewed while it is rasterised, not copied: deskew_ms is the motion table
-  // only, grid_ms includes moving the points. The scan map applies the same motion as it
-  // inserts the scan; the deskewed cloud itself is made only for a keyframe.
+  // With the scan map (reference = 3) every sweep has two readers, its grid and the map: it is
+  // deskewed once, into a buffer kept across scans (applying the motion in both costs more).
+  // Otherwise it is deskewed while it is rasterised, with no copy (deskew_ms is then the motion
+  // table only and grid_ms includes moving the points), and copied only for a keyframe.
   Stopwatch deskew_watch;
   const bool deskew = params_.odometry.deskew != 0 && !point_times.empty() && frames_ > 0;
   const SweepMotion motion = deskew ? SweepMotion(point_times, velocity_) : SweepMotion();
+  const bool copy = deskew && params_.odometry.reference == 3;
+  if (copy) dlo::deskew(points, motion, deskewed_);
+  const PointCloud& cloud = copy ? deskewed_ : points;
+  const SweepMotion none;
+  const SweepMotion& pending = copy ? none : motion;  // what `cloud` still has to be moved by
   step.times.deskew_ms = deskew_watch.elapsedMs();
 
   // Frame to frame, this scan becomes the next reference; otherwise it never is one.
   const FrameUse use =
       params_.odometry.reference == 0 ? FrameUse::kCurrentAndReference : FrameUse::kCurrentOnly;
-  current_.build(points, motion, reg.grid, reg.selection, reg.includeGround(), use);
+  current_.build(cloud, pending, reg.grid, reg.selection, reg.includeGround(), use);
   step.times.registration = current_.buildTimes();
 
   Eigen::Isometry3d pose = predicted;
@@ -103,10 +109,10 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   Stopwatch keyframe_watch;
   const bool first = frames_ == 0;
   if (!current_.empty() && (first || (hasStructure() && needsKeyframe(pose, step.registration)))) {
-    if (motion.fits(points.size())) {
-      addKeyframe(pose, dlo::deskew(points, motion), step);
+    if (pending.fits(cloud.size())) {
+      addKeyframe(pose, dlo::deskew(cloud, pending), step);
     } else {
-      addKeyframe(pose, points, step);
+      addKeyframe(pose, cloud, step);
     }
     if (first && params_.odometry.deskew != 0 && !point_times.empty()) {
       first_points_ = points;
@@ -125,7 +131,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   if (params_.odometry.reference == 3 && !current_.empty() &&
       (first || (step.registered && !step.rejected))) {
     Stopwatch map_watch;
-    updateScanMap(points, motion, pose);
+    updateScanMap(cloud, pending, pose);
     step.times.local_map_ms = map_watch.elapsedMs();
   }
 

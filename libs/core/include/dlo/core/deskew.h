@@ -59,5 +59,9 @@ PointCloud deskew(const PointCloud& points, const std::vector<float>& times,
 /// The same with a tabulated motion, e.g. to materialise the cloud a fused rasterisation did
 /// not need. \return `points` unchanged if `motion` does not fit them.
 PointCloud deskew(const PointCloud& points, const SweepMotion& motion);
+/// In-place form: writes the deskewed cloud into `out`, reusing its memory (a fresh 1.4 MB
+/// vector per HDL-64 sweep costs its page faults every time). `out` = `points` if `motion` does
+/// not fit them.
+void deskew(const PointCloud& points, const SweepMotion& motion, PointCloud& out);
 
 }  // namespace dlo

@@ -101,6 +101,7 @@ class LidarOdometry {
   SlamParams params_;
   DirectAligner aligner_;
   HeightFrame current_;    ///< reused for every scan
+  PointCloud deskewed_;    ///< reference = 3: the scan deskewed, memory reused for every scan
   HeightFrame reference_;  ///< previous scan, last keyframe or local map
   Eigen::Isometry3d reference_pose_ = Eigen::Isometry3d::Identity();  ///< odometry frame
   std::deque<RecentKeyframe> recent_;
