@@ -103,6 +103,27 @@ void BM_Selection(benchmark::State& state) {
   state.counters["cells_finest"] = static_cast<double>(f.levels().front().cells.size());
 }
 
+/// The selection of a scan that is never a reference: gradients of measured cells only, the
+/// finest level's neighbours pulled from level 1 instead of filled.
+void BM_SelectionWithoutGradientField(benchmark::State& state) {
+  const dlo::DloParams p;
+  dlo::HeightFrame f = dlo::HeightFrame::fromPoints(halves().current, p.grid, p.selection, false);
+  std::vector<dlo::HeightGrid> levels;
+  for (const dlo::FrameLevel& level : f.levels()) levels.push_back(level.grid);
+  // The finest level as a current-only frame leaves it: measured cells only.
+  levels[0] = dlo::HeightGrid::fromPoints(
+      halves().current, dlo::GridGeometry::centred(p.grid.cols, p.grid.rows, p.grid.resolution),
+      p.grid.min_points, p.grid.min_z, p.grid.max_z);
+  std::vector<dlo::SelectedCell> cells;
+  for (auto _ : state) {
+    for (size_t k = 0; k < levels.size(); ++k) {
+      dlo::selectHighGradientCells(levels[k], k == 0 ? &levels[1] : nullptr, p.selection, false,
+                                   cells);
+      benchmark::DoNotOptimize(cells.data());
+    }
+  }
+}
+
 /// A whole frame from raw points: grid, pyramid, gradients, selection.
 void BM_BuildFrame(benchmark::State& state) {
   const dlo::DloParams p = paramsFor(static_cast<int>(state.range(0)));
@@ -116,6 +137,29 @@ void BM_BuildFrame(benchmark::State& state) {
   const double n = static_cast<double>(state.iterations());
   state.counters["grid_ms"] = sum.grid_ms / n;
   state.counters["gradients_ms"] = sum.gradients_ms / n;
+  state.counters["selection_ms"] = sum.selection_ms / n;
+}
+
+/// A frame as the odometry builds each scan against a local map: deskewed while rasterised
+/// (a constant-velocity sweep of 10 m/s and 20 deg/s over 0.1 s), current-only.
+void BM_BuildCurrentFrame(benchmark::State& state) {
+  const dlo::DloParams p = paramsFor(static_cast<int>(state.range(0)));
+  const dlo::PointCloud& points = halves().current;
+  std::vector<float> times(points.size());
+  for (size_t i = 0; i < points.size(); ++i)
+    times[i] = -0.1f + 0.1f * static_cast<float>(i) / static_cast<float>(points.size());
+  dlo::Vector6d velocity;
+  velocity << 10.0, 0.0, 0.0, 0.0, 0.0, 20.0 * M_PI / 180.0;
+  dlo::StageTimes sum;
+  dlo::HeightFrame f;
+  for (auto _ : state) {
+    const dlo::SweepMotion motion(times, velocity);
+    f.build(points, motion, p.grid, p.selection, p.includeGround(), dlo::FrameUse::kCurrentOnly);
+    sum += f.buildTimes();
+    benchmark::DoNotOptimize(f.levels().data());
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["grid_ms"] = sum.grid_ms / n;
   state.counters["selection_ms"] = sum.selection_ms / n;
 }
 
@@ -206,7 +250,9 @@ BENCHMARK(BM_RasteriseFinestGrid)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PyramidAndHoleFilling)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Gradients)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Selection)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SelectionWithoutGradientField)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_BuildFrame)->Arg(3)->Arg(6)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BuildCurrentFrame)->Arg(3)->Arg(6)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_GaussNewton)->Arg(3)->Arg(6)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_WholePair)->Arg(3)->Arg(6)->Unit(benchmark::kMillisecond);
 

@@ -5,24 +5,41 @@
 
 namespace dlo {
 
-PointCloud deskew(const PointCloud& points, const std::vector<float>& times,
-                  const Vector6d& velocity, int bins) {
-  if (times.size() != points.size() || points.empty() || bins < 1) return points;
+SweepMotion::SweepMotion(const std::vector<float>& times, const Vector6d& velocity, int bins) {
+  if (times.empty() || bins < 1) return;
   const auto [lo_it, hi_it] = std::minmax_element(times.begin(), times.end());
   const float lo = *lo_it, hi = *hi_it;
   const float span = std::max(hi - lo, 1e-9f);
-  std::vector<Eigen::Isometry3f> motion(static_cast<size_t>(bins) + 1);
+  times_ = &times;
+  lo_ = lo;
+  span_ = span;
+  bins_ = bins;
+  motion_.resize(static_cast<size_t>(bins) + 1);
   for (int b = 0; b <= bins; ++b) {
     const double t = lo + static_cast<double>(span) * b / bins;
-    motion[b] = expSE3(velocity * t).cast<float>();
+    motion_[b] = expSE3(velocity * t).cast<float>();
   }
-  PointCloud out(points.size());
-  for (size_t i = 0; i < points.size(); ++i) {
-    const float f = (times[i] - lo) / span * static_cast<float>(bins);
-    const int b = std::clamp(static_cast<int>(std::lround(f)), 0, bins);
-    out[i] = motion[b] * points[i];
-  }
+}
+
+PointCloud deskew(const PointCloud& points, const std::vector<float>& times,
+                  const Vector6d& velocity, int bins) {
+  if (times.size() != points.size() || points.empty()) return points;
+  return deskew(points, SweepMotion(times, velocity, bins));
+}
+
+PointCloud deskew(const PointCloud& points, const SweepMotion& motion) {
+  PointCloud out;
+  deskew(points, motion, out);
   return out;
+}
+
+void deskew(const PointCloud& points, const SweepMotion& motion, PointCloud& out) {
+  if (!motion.fits(points.size())) {
+    out = points;
+    return;
+  }
+  out.resize(points.size());
+  for (size_t i = 0; i < points.size(); ++i) out[i] = motion.apply(i, points[i]);
 }
 
 }  // namespace dlo

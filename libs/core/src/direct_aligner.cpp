@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "dlo/core/height_residual.h"
 
@@ -316,6 +317,10 @@ DirectAligner::DirectAligner(const SolverParams& params) : params_(params) {}
 
 AlignmentResult DirectAligner::align(const HeightFrame& reference, const HeightFrame& current,
                                      const Eigen::Isometry3d& initial_guess) const {
+  if (!reference.canBeReference()) {
+    throw std::invalid_argument(
+        "DirectAligner::align: the reference frame was built FrameUse::kCurrentOnly");
+  }
   if (params_.dof == 6) return alignImpl<6>(params_, reference, current, initial_guess);
   return alignImpl<3>(params_, reference, current, initial_guess);
 }

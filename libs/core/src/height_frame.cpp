@@ -17,7 +17,7 @@ HeightFrame HeightFrame::fromGrid(const HeightGrid& finest, int levels,
   f.times_ = StageTimes();
   f.levels_.resize(static_cast<size_t>(std::max(1, levels)));
   f.levels_[0].grid = finest;
-  f.buildLevels(selection, include_ground);
+  f.buildLevels(selection, include_ground, FrameUse::kCurrentAndReference);
   return f;
 }
 
@@ -28,6 +28,16 @@ void HeightFrame::build(const PointCloud& points, const HeightGridParams& grid,
         finest.rasterise(points, geometry, grid.min_points, grid.min_z, grid.max_z);
       },
       grid, selection, include_ground);
+}
+
+void HeightFrame::build(const PointCloud& points, const SweepMotion& motion,
+                        const HeightGridParams& grid, const SelectionParams& selection,
+                        bool include_ground, FrameUse use) {
+  buildWith(
+      [&](HeightGrid& finest, const GridGeometry& geometry) {
+        finest.rasterise(points, motion, geometry, grid.min_points, grid.min_z, grid.max_z);
+      },
+      grid, selection, include_ground, use);
 }
 
 void HeightFrame::build(const WeightedCloud& points, const Eigen::Isometry3d& pose,
@@ -56,7 +66,8 @@ void HeightFrame::build(const HeightGrid::CellFiller& fill, const HeightGridPara
 
 void HeightFrame::buildWith(
     const std::function<void(HeightGrid&, const GridGeometry&)>& rasterise_finest,
-    const HeightGridParams& grid, const SelectionParams& selection, bool include_ground) {
+    const HeightGridParams& grid, const SelectionParams& selection, bool include_ground,
+    FrameUse use) {
   times_ = StageTimes();
   // resize() keeps the existing levels and their buffers: a frame rebuilt for every scan
   // reaches a steady state with no allocation at all.
@@ -64,28 +75,41 @@ void HeightFrame::buildWith(
   Stopwatch sw;
   rasterise_finest(levels_[0].grid, GridGeometry::centred(grid.cols, grid.rows, grid.resolution));
   times_.grid_ms = sw.elapsedMs();
-  buildLevels(selection, include_ground);
+  buildLevels(selection, include_ground, use);
 }
 
-void HeightFrame::buildLevels(const SelectionParams& selection, bool include_ground) {
+void HeightFrame::buildLevels(const SelectionParams& selection, bool include_ground, FrameUse use) {
+  can_be_reference_ = use == FrameUse::kCurrentAndReference;
+  // A current-only frame leaves its finest level unfilled: the selection pulls heights from
+  // level 1 for the few cells next to measured ones that it needs.
+  const size_t first_filled = can_be_reference_ ? 0 : 1;
   {
     Stopwatch sw;
     for (size_t k = 1; k < levels_.size(); ++k) levels_[k].grid.poolFrom(levels_[k - 1].grid);
-    for (size_t k = levels_.size() - 1; k-- > 0;)
+    for (size_t k = levels_.size() - 1; k-- > first_filled;)
       levels_[k].grid.fillHolesFrom(levels_[k + 1].grid);
     times_.grid_ms += sw.elapsedMs();
   }
   for (size_t k = 0; k < levels_.size(); ++k) {
     FrameLevel& level = levels_[k];
-    Stopwatch sw;
-    level.sampler.rebuild(level.grid);
-    times_.gradients_ms += sw.elapsedMs();
+    if (can_be_reference_) {
+      Stopwatch sw;
+      level.sampler.rebuild(level.grid);
+      times_.gradients_ms += sw.elapsedMs();
+    }
     Stopwatch sel;
     // The suppression block keeps its size in metres: coarse levels have few cells to spare.
     SelectionParams at_level = selection;
     at_level.block_size = std::max(1, (selection.block_size + (1 << k) / 2) >> k);
-    selectHighGradientCells(level.grid, level.sampler.gradients(), at_level, include_ground,
-                            level.cells);
+    if (can_be_reference_) {
+      selectHighGradientCells(level.grid, level.sampler.gradients(), at_level, include_ground,
+                              level.cells);
+    } else {
+      // Gradients of measured cells only, computed by the selection itself.
+      const HeightGrid* fill_source =
+          k < first_filled && k + 1 < levels_.size() ? &levels_[k + 1].grid : nullptr;
+      selectHighGradientCells(level.grid, fill_source, at_level, include_ground, level.cells);
+    }
     times_.selection_ms += sel.elapsedMs();
   }
 }

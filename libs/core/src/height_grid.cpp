@@ -16,8 +16,9 @@ HeightGrid HeightGrid::fromPoints(const PointCloud& points, const GridGeometry& 
 
 namespace {
 
-/// Bins points into `count` and `sum` in one pass. `get(item, p, n)` yields a point in the grid
-/// frame and how many raw points it stands for; written so that NaN fails every comparison.
+/// Bins points into `count` and `sum` in one pass. `get(items, i, p, n)` yields item i as a point
+/// in the grid frame and how many raw points it stands for; written so that NaN fails every
+/// comparison.
 template <typename Range, typename Get>
 void accumulate(const Range& items, Get get, const GridGeometry& geometry, double min_z,
                 double max_z, std::uint32_t* count, float* sum) {
@@ -30,8 +31,8 @@ void accumulate(const Range& items, Get get, const GridGeometry& geometry, doubl
   const float zhi = static_cast<float>(max_z);
   Eigen::Vector3f p;
   std::uint32_t n = 1;
-  for (const auto& item : items) {
-    get(item, p, n);
+  for (size_t i = 0; i < items.size(); ++i) {
+    get(items, i, p, n);
     const float u = (p.x() - x0) * inv_res;
     const float v = (p.y() - y0) * inv_res;
     if (!(u >= 0.0f && u < cols && v >= 0.0f && v < rows && p.z() >= zlo && p.z() <= zhi)) {
@@ -47,13 +48,28 @@ void accumulate(const Range& items, Get get, const GridGeometry& geometry, doubl
 
 void HeightGrid::rasterise(const PointCloud& points, const GridGeometry& geometry, int min_points,
                            double min_z, double max_z) {
+  rasterise(points, SweepMotion(), geometry, min_points, min_z, max_z);
+}
+
+void HeightGrid::rasterise(const PointCloud& points, const SweepMotion& motion,
+                           const GridGeometry& geometry, int min_points, double min_z,
+                           double max_z) {
   geometry_ = geometry;
   min_points_ = min_points;
   count_.assign(geometry.cellCount(), 0u);
   sum_z_.assign(geometry.cellCount(), 0.0f);
-  accumulate(
-      points, [](const Eigen::Vector3f& q, Eigen::Vector3f& p, std::uint32_t&) { p = q; }, geometry,
-      min_z, max_z, count_.data(), sum_z_.data());
+  if (motion.fits(points.size())) {
+    accumulate(
+        points,
+        [&motion](const PointCloud& c, size_t i, Eigen::Vector3f& p, std::uint32_t&) {
+          p = motion.apply(i, c[i]);
+        },
+        geometry, min_z, max_z, count_.data(), sum_z_.data());
+  } else {
+    accumulate(
+        points, [](const PointCloud& c, size_t i, Eigen::Vector3f& p, std::uint32_t&) { p = c[i]; },
+        geometry, min_z, max_z, count_.data(), sum_z_.data());
+  }
   finalise();
 }
 
@@ -73,9 +89,9 @@ void HeightGrid::rasterise(const std::vector<PosedCloud>& parts, const GridGeome
     const Eigen::Isometry3f T = part.pose.cast<float>();
     accumulate(
         *part.cloud,
-        [&T](const WeightedPoint& w, Eigen::Vector3f& p, std::uint32_t& n) {
-          p = T * w.p;
-          n = w.n;
+        [&T](const WeightedCloud& c, size_t i, Eigen::Vector3f& p, std::uint32_t& n) {
+          p = T * c[i].p;
+          n = c[i].n;
         },
         geometry, min_z, max_z, count_.data(), sum_z_.data());
   }
@@ -149,43 +165,68 @@ void HeightGrid::finalise() {
   const int n = geometry_.cellCount();
   height_.resize(n);
   valid_.resize(n);
-  const std::uint32_t need = static_cast<std::uint32_t>(min_points_ < 1 ? 1 : min_points_);
+  // Signed counts throughout: SSE2 converts and compares signed integers in one instruction,
+  // unsigned ones not (a cell never holds 2^31 points). Raw restrict pointers and one output
+  // type per loop, so that both loops vectorise.
+  const std::int32_t need = std::max(min_points_, 1);
+  const std::int32_t* __restrict__ cnt = reinterpret_cast<const std::int32_t*>(count_.data());
+  const float* __restrict__ sum = sum_z_.data();
+  float* __restrict__ height = height_.data();
+  std::uint8_t* __restrict__ valid = valid_.data();
+  for (int i = 0; i < n; ++i) {
+    // Divided unconditionally, by 1 where the cell is invalid, and masked by a product, all
+    // with integer masks: the compiler does not speculate a division (it might trap), and
+    // turns any conditional it can see back into a branch around it, which keeps the loop
+    // scalar. "+ 0.0f" turns -0 into 0.
+    const std::int32_t ok = -static_cast<std::int32_t>(cnt[i] >= need);  // all ones if valid
+    const float mean = sum[i] / static_cast<float>((cnt[i] & ok) | (1 & ~ok));
+    height[i] = static_cast<float>(ok & 1) * mean + 0.0f;
+  }
   int valid_cells = 0;
   for (int i = 0; i < n; ++i) {
-    const bool ok = count_[i] >= need;
-    // Through int: SSE2 converts signed integers to float in one instruction, unsigned not.
-    const float cnt = static_cast<float>(static_cast<std::int32_t>(count_[i]));
-    height_[i] = ok ? sum_z_[i] / std::max(cnt, 1.0f) : 0.0f;
-    valid_[i] = ok ? 1u : 0u;
-    valid_cells += ok ? 1 : 0;
+    valid[i] = cnt[i] >= need ? 1u : 0u;
+    valid_cells += valid[i];
   }
   valid_cells_ = valid_cells;
   support_ = valid_;
 }
 
-void HeightGrid::fillHolesFrom(const HeightGrid& coarser) {
-  // Coarse heights premultiplied by support, with a one-cell border of zeros, so the inner loop
-  // is branch-free: height = sum(w*s*h) / sum(w*s) over the four surrounding coarse cells.
-  const GridGeometry& cg = coarser.geometry_;
-  if (cg.cols != (geometry_.cols + 1) / 2 || cg.rows != (geometry_.rows + 1) / 2 ||
-      std::abs(cg.resolution - 2.0 * geometry_.resolution) > 1e-9 * cg.resolution ||
-      std::abs(cg.x_min - geometry_.x_min) > 1e-6 || std::abs(cg.y_min - geometry_.y_min) > 1e-6) {
-    throw std::invalid_argument("HeightGrid::fillHolesFrom needs the grid's own coarser() level");
-  }
-  const int pc = cg.cols + 2;
-  // Scratch kept across calls: streaming frames should not hand memory back to the system.
-  thread_local std::vector<float> sh, s, vs, vh;
-  sh.assign(static_cast<size_t>(pc) * (cg.rows + 2), 0.0f);
-  s.assign(sh.size(), 0.0f);
-  for (int r = 0; r < cg.rows; ++r) {
-    for (int c = 0; c < cg.cols; ++c) {
-      const int j = r * cg.cols + c;
-      if (!coarser.support_[j]) continue;
-      const int k = (r + 1) * pc + (c + 1);
-      s[k] = 1.0f;
-      sh[k] = coarser.height_[j];
+void HeightGrid::preparePull(PullSource& out) const {
+  const GridGeometry& g = geometry_;
+  out.geometry = g;
+  out.cols = g.cols + 2;
+  const size_t padded_rows = static_cast<size_t>(g.rows) + 2;
+  out.support.resize(static_cast<size_t>(out.cols) * padded_rows);
+  out.height.resize(out.support.size());
+  float* __restrict__ s = out.support.data();
+  float* __restrict__ h = out.height.data();
+  // Only the border is zeroed separately; the interior is written branch-free.
+  std::fill_n(s, out.cols, 0.0f);
+  std::fill_n(h, out.cols, 0.0f);
+  std::fill_n(s + (padded_rows - 1) * out.cols, out.cols, 0.0f);
+  std::fill_n(h + (padded_rows - 1) * out.cols, out.cols, 0.0f);
+  for (int r = 0; r < g.rows; ++r) {
+    const std::uint8_t* __restrict__ sup = support_.data() + r * g.cols;
+    const float* __restrict__ hr = height_.data() + r * g.cols;
+    float* __restrict__ srow = s + (r + 1) * out.cols;
+    float* __restrict__ hrow = h + (r + 1) * out.cols;
+    srow[0] = hrow[0] = srow[g.cols + 1] = hrow[g.cols + 1] = 0.0f;
+    for (int c = 0; c < g.cols; ++c) {
+      srow[c + 1] = sup[c] ? 1.0f : 0.0f;
+      hrow[c + 1] = sup[c] ? hr[c] : 0.0f;
     }
   }
+}
+
+void HeightGrid::fillHolesFrom(const HeightGrid& coarser) {
+  if (!isCoarserLevel(coarser)) {
+    throw std::invalid_argument("HeightGrid::fillHolesFrom needs the grid's own coarser() level");
+  }
+  // Scratch kept across calls: streaming frames should not hand memory back to the system.
+  thread_local PullSource source;
+  coarser.preparePull(source);
+  const int pc = source.cols;
+  thread_local std::vector<float> vs, vh;
   // A fine cell centre lies a quarter of a coarse cell from the coarse centres around it, so
   // the bilinear weights are 3/4 and 1/4; its padded coarse cell is (r+1)/2, (c+1)/2.
   // Per fine row: blend the two coarse rows around it (weights 3/4, 1/4), then blend
@@ -207,8 +248,8 @@ void HeightGrid::fillHolesFrom(const HeightGrid& coarser) {
   float* __restrict__ fo = fill_odd.data();
   float* __restrict__ ke = ok_even.data();
   float* __restrict__ ko = ok_odd.data();
-  const float* ps = s.data();
-  const float* psh = sh.data();
+  const float* ps = source.support.data();
+  const float* psh = source.height.data();
   const int cols = geometry_.cols;
   for (int r = 0; r < geometry_.rows; ++r) {
     const int pr0 = (r + 1) / 2;  // padded coarse row of the lower neighbour
@@ -249,6 +290,41 @@ void HeightGrid::fillHolesFrom(const HeightGrid& coarser) {
       srow[c] = static_cast<std::uint8_t>(vrow[c] | (fill ? 1u : 0u));
     }
   }
+}
+
+bool HeightGrid::isCoarserLevel(const HeightGrid& coarser) const {
+  const GridGeometry& cg = coarser.geometry_;
+  return cg.cols == (geometry_.cols + 1) / 2 && cg.rows == (geometry_.rows + 1) / 2 &&
+         std::abs(cg.resolution - 2.0 * geometry_.resolution) <= 1e-9 * cg.resolution &&
+         std::abs(cg.x_min - geometry_.x_min) <= 1e-6 &&
+         std::abs(cg.y_min - geometry_.y_min) <= 1e-6;
+}
+
+bool HeightGrid::pulledHeight(int row, int col, const PullSource& source, float& h) const {
+  if (support_[index(row, col)]) {
+    h = height_[index(row, col)];
+    return true;
+  }
+  // fillHolesFrom() for one cell, with the same operations in the same order so that both
+  // give the same float: blend the two padded coarse rows around the fine row, then two of
+  // those column blends.
+  const int pc = source.cols;
+  const int pr0 = (row + 1) / 2;
+  const float b = (row % 2 == 0) ? 0.75f : 0.25f;
+  const float* s0 = source.support.data() + pr0 * pc;
+  const float* h0 = source.height.data() + pr0 * pc;
+  auto vs = [&](int j) { return (1 - b) * s0[j] + b * s0[j + pc]; };
+  auto vh = [&](int j) { return (1 - b) * h0[j] + b * h0[j + pc]; };
+  // Fine column col lies between padded coarse columns a and a + 1: 3/4 of the way for an even
+  // column, 1/4 for an odd one. Chosen without a branch: the parity of neighbouring cells is
+  // as good as random for a branch predictor.
+  const int a = (col + 1) / 2;
+  const float wl = (col & 1) != 0 ? 0.75f : 0.25f;
+  const float wr = 1.0f - wl;  // exact: 0.25 or 0.75
+  const float w = wl * vs(a) + wr * vs(a + 1);
+  const float sum = wl * vh(a) + wr * vh(a + 1);
+  h = sum / std::max(w, 0.5f);
+  return w >= 0.5f;
 }
 
 cv::Mat HeightGrid::heightImage() const {

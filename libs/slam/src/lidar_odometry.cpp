@@ -43,13 +43,24 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   const Eigen::Isometry3d predicted =
       dt > 0.0 && dt < 1.0 ? last_pose_ * expSE3(velocity_ * dt) : last_pose_;
 
+  // With the scan map (reference = 3) every sweep has two readers, its grid and the map: it is
+  // deskewed once, into a buffer kept across scans (applying the motion in both costs more).
+  // Otherwise it is deskewed while it is rasterised, with no copy (deskew_ms is then the motion
+  // table only and grid_ms includes moving the points), and copied only for a keyframe.
   Stopwatch deskew_watch;
   const bool deskew = params_.odometry.deskew != 0 && !point_times.empty() && frames_ > 0;
-  const PointCloud deskewed = deskew ? dlo::deskew(points, point_times, velocity_) : PointCloud();
+  const SweepMotion motion = deskew ? SweepMotion(point_times, velocity_) : SweepMotion();
+  const bool copy = deskew && params_.odometry.reference == 3;
+  if (copy) dlo::deskew(points, motion, deskewed_);
+  const PointCloud& cloud = copy ? deskewed_ : points;
+  const SweepMotion none;
+  const SweepMotion& pending = copy ? none : motion;  // what `cloud` still has to be moved by
   step.times.deskew_ms = deskew_watch.elapsedMs();
 
-  const PointCloud* cloud = deskew ? &deskewed : &points;
-  current_.build(*cloud, reg.grid, reg.selection, reg.includeGround());
+  // Frame to frame, this scan becomes the next reference; otherwise it never is one.
+  const FrameUse use =
+      params_.odometry.reference == 0 ? FrameUse::kCurrentAndReference : FrameUse::kCurrentOnly;
+  current_.build(cloud, pending, reg.grid, reg.selection, reg.includeGround(), use);
   step.times.registration = current_.buildTimes();
 
   Eigen::Isometry3d pose = predicted;
@@ -98,7 +109,11 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   Stopwatch keyframe_watch;
   const bool first = frames_ == 0;
   if (!current_.empty() && (first || (hasStructure() && needsKeyframe(pose, step.registration)))) {
-    addKeyframe(pose, *cloud, step);
+    if (pending.fits(cloud.size())) {
+      addKeyframe(pose, dlo::deskew(cloud, pending), step);
+    } else {
+      addKeyframe(pose, cloud, step);
+    }
     if (first && params_.odometry.deskew != 0 && !point_times.empty()) {
       first_points_ = points;
       first_times_ = point_times;
@@ -116,7 +131,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   if (params_.odometry.reference == 3 && !current_.empty() &&
       (first || (step.registered && !step.rejected))) {
     Stopwatch map_watch;
-    updateScanMap(*cloud, pose);
+    updateScanMap(cloud, pending, pose);
     step.times.local_map_ms = map_watch.elapsedMs();
   }
 
@@ -267,9 +282,10 @@ void LidarOdometry::adaptToSensor(size_t points) {
   sparse_sensor_ = true;
 }
 
-void LidarOdometry::updateScanMap(const PointCloud& points, const Eigen::Isometry3d& pose) {
+void LidarOdometry::updateScanMap(const PointCloud& points, const SweepMotion& motion,
+                                  const Eigen::Isometry3d& pose) {
   const DloParams& reg = params_.registration;
-  scan_map_.insert(points, pose, reg.grid.min_z, reg.grid.max_z);
+  scan_map_.insert(points, motion, pose, reg.grid.min_z, reg.grid.max_z);
   // The reference grid is axis-aligned in the odometry frame, its cells the map's own: no
   // resampling, the registration takes the heading into its initial guess.
   reference_pose_ = scan_map_.windowPose(pose.translation());

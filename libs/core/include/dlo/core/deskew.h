@@ -2,6 +2,8 @@
 /// \brief Motion compensation of a rotating-LiDAR sweep with a constant-velocity model.
 #pragma once
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <vector>
 
 #include "dlo/core/point_cloud.h"
@@ -9,15 +11,57 @@
 
 namespace dlo {
 
-/// Expresses every point in the vehicle frame at the sweep's reference time (t = 0).
-/// Point i was measured at `times[i]` seconds (relative to the reference) in the vehicle frame
-/// of that instant; with a constant body twist `velocity` (per second: the motion between two
-/// sweeps is expSE3(velocity * dt)) the vehicle pose at t relative to t = 0 is
-/// expSE3(velocity * t), so the point is moved by it. Times are quantised to `bins` steps over
-/// their range, which bounds the error to (speed * range / bins) while costing `bins` matrix
-/// exponentials instead of one per point.
+/// The motion of the vehicle during one sweep, tabulated so that it can be applied point by point
+/// while the points are used for something else (rasterised), with no deskewed copy of the cloud.
+/// Point i was measured at `times[i]` seconds (relative to the reference, t = 0) in the vehicle
+/// frame of that instant; with a constant body twist `velocity` (per second: the motion between
+/// two sweeps is expSE3(velocity * dt)) the vehicle pose at t relative to t = 0 is
+/// expSE3(velocity * t). Times are quantised to `bins` steps over their range, which bounds the
+/// error to (speed * range / bins) while costing `bins` matrix exponentials instead of one per
+/// point.
+class SweepMotion {
+ public:
+  /// No motion: apply() returns points unchanged.
+  SweepMotion() = default;
+  /// Tabulates the motion over the range of `times`, which must outlive this object. Empty
+  /// (identity) when `times` is empty or bins < 1.
+  SweepMotion(const std::vector<float>& times, const Vector6d& velocity, int bins = 128);
+
+  /// True when there is no motion to apply.
+  bool empty() const { return times_ == nullptr; }
+  /// Whether apply() can be used for a cloud of `points` points (one time per point).
+  bool fits(size_t points) const { return times_ != nullptr && times_->size() == points; }
+
+  /// Point `p`, measured at times[i], expressed in the vehicle frame at t = 0. Only valid
+  /// when !empty().
+  Eigen::Vector3f apply(size_t i, const Eigen::Vector3f& p) const {
+    // The nearest bin, as std::lround would round (half away from zero) but without a library
+    // call per point: f - trunc(f) is exact for these magnitudes.
+    const float f = ((*times_)[i] - lo_) / span_ * static_cast<float>(bins_);
+    const int t = static_cast<int>(f);
+    const int b = std::clamp(t + (f - static_cast<float>(t) >= 0.5f ? 1 : 0), 0, bins_);
+    return motion_[static_cast<size_t>(b)] * p;
+  }
+
+ private:
+  const std::vector<float>* times_ = nullptr;
+  float lo_ = 0.0f;
+  float span_ = 1.0f;  ///< seconds from the first to the last time
+  int bins_ = 0;
+  std::vector<Eigen::Isometry3f> motion_;  ///< pose of bin b, bins + 1 entries
+};
+
+/// Expresses every point in the vehicle frame at the sweep's reference time (t = 0); see
+/// SweepMotion for the model.
 /// \return `points` unchanged if `times` is empty or of a different size.
 PointCloud deskew(const PointCloud& points, const std::vector<float>& times,
                   const Vector6d& velocity, int bins = 128);
+/// The same with a tabulated motion, e.g. to materialise the cloud a fused rasterisation did
+/// not need. \return `points` unchanged if `motion` does not fit them.
+PointCloud deskew(const PointCloud& points, const SweepMotion& motion);
+/// In-place form: writes the deskewed cloud into `out`, reusing its memory (a fresh 1.4 MB
+/// vector per HDL-64 sweep costs its page faults every time). `out` = `points` if `motion` does
+/// not fit them.
+void deskew(const PointCloud& points, const SweepMotion& motion, PointCloud& out);
 
 }  // namespace dlo

@@ -61,7 +61,8 @@ class DirectAligner {
  public:
   explicit DirectAligner(const SolverParams& params = SolverParams());
 
-  /// Pose of `current` in `reference`, starting from `initial_guess`.
+  /// Pose of `current` in `reference`, starting from `initial_guess`. Throws
+  /// std::invalid_argument if `reference` was built FrameUse::kCurrentOnly.
   AlignmentResult align(const HeightFrame& reference, const HeightFrame& current,
                         const Eigen::Isometry3d& initial_guess) const;
 

@@ -21,6 +21,15 @@ struct FrameLevel {
   std::vector<SelectedCell> cells;  ///< used when this frame is the current scan
 };
 
+/// What a frame is built for. A registration reads the selected cells of the current scan and
+/// the samplers (gradient fields) of the reference. A scan that will never be a reference (the
+/// local map is the reference) skips its samplers and the hole filling of its finest level,
+/// which together cost more than its selection; its selected cells are the same either way.
+enum class FrameUse {
+  kCurrentAndReference,  ///< everything: the frame can be either side of a registration
+  kCurrentOnly,          ///< selected cells only; the levels' samplers are left unset
+};
+
 /// Everything registration needs from one scan, computed once: a frame serves as the current
 /// scan of one registration and as the reference of the next without recomputation.
 /// levels[0] is the finest.
@@ -37,6 +46,10 @@ class HeightFrame {
   /// Streaming code keeps a few frames and rebuilds them instead of allocating ~8 MB per scan.
   void build(const PointCloud& points, const HeightGridParams& grid,
              const SelectionParams& selection, bool include_ground);
+  /// Rebuilds this frame from a sweep deskewed while it is rasterised (see
+  /// HeightGrid::rasterise), for `use`.
+  void build(const PointCloud& points, const SweepMotion& motion, const HeightGridParams& grid,
+             const SelectionParams& selection, bool include_ground, FrameUse use);
 
   /// Rebuilds this frame from weighted points seen from `pose` (see HeightGrid::rasterise).
   void build(const WeightedCloud& points, const Eigen::Isometry3d& pose,
@@ -56,6 +69,8 @@ class HeightFrame {
 
   const std::vector<FrameLevel>& levels() const { return levels_; }
   bool empty() const { return levels_.empty() || levels_.front().grid.validCellCount() == 0; }
+  /// False for a frame built FrameUse::kCurrentOnly: its samplers are not usable.
+  bool canBeReference() const { return can_be_reference_; }
   /// Build time of this frame (grid, gradients, selection; solve_ms is zero).
   const StageTimes& buildTimes() const { return times_; }
 
@@ -63,11 +78,12 @@ class HeightFrame {
   /// Level 0 by `rasterise_finest` (into the centred geometry of `grid`), then buildLevels().
   void buildWith(const std::function<void(HeightGrid&, const GridGeometry&)>& rasterise_finest,
                  const HeightGridParams& grid, const SelectionParams& selection,
-                 bool include_ground);
+                 bool include_ground, FrameUse use = FrameUse::kCurrentAndReference);
   /// Levels 1.. from level 0, hole filling, gradients and selection on every level.
-  void buildLevels(const SelectionParams& selection, bool include_ground);
+  void buildLevels(const SelectionParams& selection, bool include_ground, FrameUse use);
 
   std::vector<FrameLevel> levels_;
+  bool can_be_reference_ = true;
   StageTimes times_;
 };
 

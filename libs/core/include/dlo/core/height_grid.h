@@ -7,6 +7,7 @@
 #include <opencv2/core/mat.hpp>
 #include <vector>
 
+#include "dlo/core/deskew.h"
 #include "dlo/core/grid_geometry.h"
 #include "dlo/core/point_cloud.h"
 #include "dlo/core/weighted_cloud.h"
@@ -22,6 +23,17 @@ struct HeightGridParams {
   double min_z = -10.0;      ///< points below this height (m, grid frame) are ignored
   double max_z = 10.0;       ///< points above this height (m, grid frame) are ignored
   int levels = 4;            ///< pyramid levels; level k has cells 2^k times larger
+};
+
+/// A coarse level laid out for the "pull" of hole filling (HeightGrid::fillHolesFrom and
+/// pulledHeight): support (0 or 1) and support-weighted height per cell, with a one-cell border
+/// of zeros, so that the interpolation needs neither branches nor bounds checks: height =
+/// sum(w*s*h) / sum(w*s) over the four surrounding coarse cells.
+struct PullSource {
+  GridGeometry geometry;       ///< of the coarse level, without the border
+  int cols = 0;                ///< padded columns: geometry.cols + 2
+  std::vector<float> support;  ///< (geometry.rows + 2) x cols, row-major
+  std::vector<float> height;   ///< support * mean height, same layout
 };
 
 /// One level of mean heights. Built in a single pass over the points, accumulating a count and a
@@ -45,6 +57,11 @@ class HeightGrid {
   /// In-place form of fromPoints(): reuses this grid's memory, for streaming.
   void rasterise(const PointCloud& points, const GridGeometry& geometry, int min_points,
                  double min_z, double max_z);
+  /// Rasterises a sweep deskewed on the fly: point i counts at motion.apply(i, points[i]), the
+  /// same as rasterising deskew(points, motion) without writing and re-reading that copy.
+  /// `motion` is ignored unless it fits the cloud (SweepMotion::fits).
+  void rasterise(const PointCloud& points, const SweepMotion& motion, const GridGeometry& geometry,
+                 int min_points, double min_z, double max_z);
 
   /// Rasterises weighted points (voxel centroids with counts) seen from `pose`: each point is
   /// mapped by pose * p into the grid frame and counts n times. Used to rebuild keyframe grids
@@ -74,6 +91,17 @@ class HeightGrid {
   /// neighbourhood without inventing edges against "zero height". Measured cells are untouched
   /// and remain the only ones isValid().
   void fillHolesFrom(const HeightGrid& coarser);
+
+  /// This grid (as the coarser level of another) laid out for pulledHeight().
+  void preparePull(PullSource& out) const;
+  /// The height fillHolesFrom(coarser) would leave in one cell, without filling the grid: the
+  /// cell's own height where hasSupport(), else the pulled estimate. False where the cell would
+  /// stay empty. Lets a scan that is only registered, never a reference, fill just the
+  /// neighbours of its measured cells. `source` comes from coarser.preparePull(), with
+  /// isCoarserLevel(coarser) (unchecked).
+  bool pulledHeight(int row, int col, const PullSource& source, float& h) const;
+  /// True when `coarser` has this grid's coarser() geometry (what fillHolesFrom() requires).
+  bool isCoarserLevel(const HeightGrid& coarser) const;
 
   const GridGeometry& geometry() const { return geometry_; }
   int cols() const { return geometry_.cols; }

@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 
+#include "dlo/core/deskew.h"
 #include "dlo/core/grid_geometry.h"
 #include "dlo/core/point_cloud.h"
 
@@ -39,6 +40,11 @@ class LocalHeightMap {
   /// (vehicle in the odometry frame). Removes the oldest scan beyond max_scans and any scan
   /// farther from `pose` than evictionDistance().
   void insert(const PointCloud& points, const Eigen::Isometry3d& pose, double min_z, double max_z);
+  /// The same for a sweep deskewed on the fly: point i is taken at motion.apply(i, points[i]),
+  /// as if deskew(points, motion) had been inserted, without that copy. `motion` is ignored
+  /// unless it fits the cloud (SweepMotion::fits).
+  void insert(const PointCloud& points, const SweepMotion& motion, const Eigen::Isometry3d& pose,
+              double min_z, double max_z);
 
   /// Forgets every scan.
   void clear();

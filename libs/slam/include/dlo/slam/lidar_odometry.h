@@ -89,9 +89,10 @@ class LidarOdometry {
   void rebuildLocalMap();
   /// On the first non-empty scan: switches to the sparse sensor's grid if it has few points.
   void adaptToSensor(size_t points);
-  /// reference = 3: adds a registered scan to the local height map and re-extracts the
-  /// reference around its pose.
-  void updateScanMap(const PointCloud& points, const Eigen::Isometry3d& pose);
+  /// reference = 3: adds a registered scan (deskewed by `motion` as it is inserted) to the
+  /// local height map and re-extracts the reference around its pose.
+  void updateScanMap(const PointCloud& points, const SweepMotion& motion,
+                     const Eigen::Isometry3d& pose);
   void redoFirstKeyframe(OdometryStep& step);
   /// A keyframe's points within map_range, decimated for the local map (`fine`,
   /// keyframe_voxel) and for the long-term map (`coarse`, map_voxel).
@@ -100,6 +101,7 @@ class LidarOdometry {
   SlamParams params_;
   DirectAligner aligner_;
   HeightFrame current_;    ///< reused for every scan
+  PointCloud deskewed_;    ///< reference = 3: the scan deskewed, memory reused for every scan
   HeightFrame reference_;  ///< previous scan, last keyframe or local map
   Eigen::Isometry3d reference_pose_ = Eigen::Isometry3d::Identity();  ///< odometry frame
   std::deque<RecentKeyframe> recent_;
