@@ -37,7 +37,7 @@ std::vector<ParamField<SlamParams>> fields() {
                  "metres; a registration farther than this from the constant-velocity "
                  "prediction (rotations counted at solver.rotation_scale) is rejected, the "
                  "prediction kept and the scan flagged; the bound grows by as much with each "
-                 "consecutive rejection; 0: off"),
+                 "consecutive rejection (a quarter as much for rotations); 0: off"),
       paramField("odometry", "max_acceleration", &S::odometry, &O::max_acceleration,
                  "m/s^2; the velocity carried to the next scan changes by at most this per "
                  "second; 0: no limit"),

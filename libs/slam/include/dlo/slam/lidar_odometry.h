@@ -73,10 +73,10 @@ class LidarOdometry {
     WeightedCloud cloud;     ///< vehicle frame, keyframe_voxel
   };
 
-  /// Metres between two poses, a rotation counted as its displacement at solver.rotation_scale.
-  double deviationFrom(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& pose) const;
-  /// A registered pose that far from the prediction is not to be believed (see OdometryStep).
-  bool implausible(double deviation) const;
+  /// A registered pose too far from the prediction to be believed (see OdometryStep): its
+  /// translation or its rotation (counted as its displacement at solver.rotation_scale) beyond
+  /// odometry.max_prior_deviation, bounds that widen with each consecutive rejection.
+  bool implausible(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& pose) const;
   /// The measured velocity, its change since the last one limited to the vehicle's
   /// odometry.max_acceleration and max_yaw_acceleration over `dt`.
   Vector6d limitAcceleration(const Vector6d& measured, double dt) const;

@@ -31,7 +31,7 @@ struct OdometryParams {
   /// Metres: a registration farther than this from the constant-velocity prediction (rotations
   /// counted as their displacement at solver.rotation_scale) is rejected, the prediction kept
   /// and the scan flagged degenerate; the bound grows by as much with every consecutive
-  /// rejection (the prediction ages); 0 disables.
+  /// rejection (the prediction ages), a quarter as much for rotations; 0 disables.
   double max_prior_deviation = 0.3;
   /// m/s^2: the velocity carried to the next scan changes by at most this per second (a car
   /// brakes at up to about 10); 0: no limit.
