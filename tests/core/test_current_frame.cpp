@@ -10,6 +10,7 @@
 #include "dlo/core/direct_aligner.h"
 #include "dlo/core/dlo_params.h"
 #include "dlo/core/height_frame.h"
+#include "dlo/core/weighted_cloud.h"
 #include "dlo/mrpt/scan_file.h"
 
 namespace dlo {
@@ -123,6 +124,30 @@ TEST_F(CurrentOnlyFrame, CannotServeAsAReference) {
   const DirectAligner aligner(p.solver);
   EXPECT_THROW(aligner.align(current, full, Eigen::Isometry3d::Identity()), std::invalid_argument);
   EXPECT_NO_THROW(aligner.align(full, current, Eigen::Isometry3d::Identity()));
+}
+
+TEST_F(CurrentOnlyFrame, AReferenceOnlyFrameRegistersLikeAFullOneAndCannotBeCurrent) {
+  const DloParams p;
+  const WeightedCloud cloud = voxelise(*scan_, 0.05);
+  const std::vector<PosedCloud> parts{PosedCloud{&cloud, Eigen::Isometry3d::Identity()}};
+  HeightFrame reference;
+  reference.build(parts, p.grid, p.selection, false, FrameUse::kReferenceOnly);
+  HeightFrame full;
+  full.build(parts, p.grid, p.selection, false);
+  EXPECT_TRUE(reference.canBeReference());
+  EXPECT_FALSE(reference.canBeCurrent());
+  for (const FrameLevel& level : reference.levels()) EXPECT_TRUE(level.cells.empty());
+
+  HeightFrame current;
+  current.build(*scan_, SweepMotion(), p.grid, p.selection, false, FrameUse::kCurrentOnly);
+  Eigen::Isometry3d guess = Eigen::Isometry3d::Identity();
+  guess.translation() << 0.3, -0.2, 0.0;
+  const DirectAligner aligner(p.solver);
+  const AlignmentResult a = aligner.align(reference, current, guess);
+  const AlignmentResult b = aligner.align(full, current, guess);
+  EXPECT_TRUE(a.pose.isApprox(b.pose, 0.0));  // the same samplers, bit for bit
+  EXPECT_EQ(a.cells, b.cells);
+  EXPECT_THROW(aligner.align(full, reference, guess), std::invalid_argument);
 }
 
 }  // namespace

@@ -36,7 +36,7 @@
 #include <string>
 #include <vector>
 
-#include "dlo/mrpt/kitti_bin.h"
+#include "../kitti_scan_points.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 
 namespace {
@@ -82,17 +82,7 @@ void writeObjects(const fs::path& path, const Objects&... objects) {
 
 /// The first `n` points of the real HDL-64 scan with reflectance.
 mrpt::maps::CPointsMapXYZI::Ptr kittiPoints(const std::string& shared, size_t n) {
-  mrpt::maps::CPointsMapXYZI full;
-  dlo::loadKittiBinXYZI(shared + "/kitti_00_000000.bin.gz", full);
-  auto out = mrpt::maps::CPointsMapXYZI::Create();
-  for (size_t i = 0; i < std::min(n, full.size()); ++i) {
-    float x, y, z;
-    full.getPointFast(i, x, y, z);
-    out->insertPointFast(x, y, z);
-    out->setPointIntensity(out->size() - 1, full.getPointIntensity(i));
-  }
-  out->mark_as_modified();
-  return out;
+  return dlo::test::kittiScanPoints(shared + "/kitti_00_000000.bin.gz", 1, n);
 }
 
 void rawlogSeeds(const std::string& shared, const fs::path& dir) {

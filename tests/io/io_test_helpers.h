@@ -10,8 +10,8 @@
 #include <filesystem>
 #include <string>
 
+#include "../kitti_scan_points.h"
 #include "../test_data.h"
-#include "dlo/mrpt/kitti_bin.h"
 
 namespace dlo::test {
 
@@ -35,17 +35,7 @@ class TempDir {
 /// Every `step`-th point of the real HDL-64 scan (with reflectance): small enough for quick
 /// rawlog round trips, still real structure.
 inline mrpt::maps::CPointsMapXYZI::Ptr kittiSubsample(size_t step) {
-  mrpt::maps::CPointsMapXYZI full;
-  loadKittiBinXYZI(sharedData("kitti_00_000000.bin.gz"), full);
-  auto out = mrpt::maps::CPointsMapXYZI::Create();
-  for (size_t i = 0; i < full.size(); i += step) {
-    float x, y, z;
-    full.getPointFast(i, x, y, z);
-    out->insertPointFast(x, y, z);
-    out->setPointIntensity(out->size() - 1, full.getPointIntensity(i));
-  }
-  out->mark_as_modified();
-  return out;
+  return kittiScanPoints(sharedData("kitti_00_000000.bin.gz"), step);
 }
 
 /// A CObservationPointCloud holding `map` (shared), with a label and a timestamp in seconds.

@@ -321,6 +321,10 @@ AlignmentResult DirectAligner::align(const HeightFrame& reference, const HeightF
     throw std::invalid_argument(
         "DirectAligner::align: the reference frame was built FrameUse::kCurrentOnly");
   }
+  if (!current.canBeCurrent()) {
+    throw std::invalid_argument(
+        "DirectAligner::align: the current frame was built FrameUse::kReferenceOnly");
+  }
   if (params_.dof == 6) return alignImpl<6>(params_, reference, current, initial_guess);
   return alignImpl<3>(params_, reference, current, initial_guess);
 }

@@ -47,21 +47,21 @@ void HeightFrame::build(const WeightedCloud& points, const Eigen::Isometry3d& po
 }
 
 void HeightFrame::build(const std::vector<PosedCloud>& parts, const HeightGridParams& grid,
-                        const SelectionParams& selection, bool include_ground) {
+                        const SelectionParams& selection, bool include_ground, FrameUse use) {
   buildWith(
       [&](HeightGrid& finest, const GridGeometry& geometry) {
         finest.rasterise(parts, geometry, grid.min_points, grid.min_z, grid.max_z);
       },
-      grid, selection, include_ground);
+      grid, selection, include_ground, use);
 }
 
 void HeightFrame::build(const HeightGrid::CellFiller& fill, const HeightGridParams& grid,
-                        const SelectionParams& selection, bool include_ground) {
+                        const SelectionParams& selection, bool include_ground, FrameUse use) {
   buildWith(
       [&](HeightGrid& finest, const GridGeometry& geometry) {
         finest.accumulateCells(geometry, grid.min_points, fill);
       },
-      grid, selection, include_ground);
+      grid, selection, include_ground, use);
 }
 
 void HeightFrame::buildWith(
@@ -79,7 +79,8 @@ void HeightFrame::buildWith(
 }
 
 void HeightFrame::buildLevels(const SelectionParams& selection, bool include_ground, FrameUse use) {
-  can_be_reference_ = use == FrameUse::kCurrentAndReference;
+  can_be_reference_ = use != FrameUse::kCurrentOnly;
+  can_be_current_ = use != FrameUse::kReferenceOnly;
   // A current-only frame leaves its finest level unfilled: the selection pulls heights from
   // level 1 for the few cells next to measured ones that it needs.
   const size_t first_filled = can_be_reference_ ? 0 : 1;
@@ -96,6 +97,10 @@ void HeightFrame::buildLevels(const SelectionParams& selection, bool include_gro
       Stopwatch sw;
       level.sampler.rebuild(level.grid);
       times_.gradients_ms += sw.elapsedMs();
+    }
+    if (!can_be_current_) {
+      level.cells.clear();
+      continue;
     }
     Stopwatch sel;
     // The suppression block keeps its size in metres: coarse levels have few cells to spare.

@@ -40,12 +40,6 @@ std::uint32_t LocalHeightMap::cellIndex(std::int64_t gx, std::int64_t gy) const 
 
 void LocalHeightMap::insert(const PointCloud& points, const Eigen::Isometry3d& pose, double min_z,
                             double max_z) {
-  insert(points, SweepMotion(), pose, min_z, max_z);
-}
-
-void LocalHeightMap::insert(const PointCloud& points, const SweepMotion& motion,
-                            const Eigen::Isometry3d& pose, double min_z, double max_z) {
-  const bool deskew = motion.fits(points.size());
   Scan scan;
   scan.position = pose.translation().head<2>();
   const Eigen::Isometry3f T = pose.cast<float>();
@@ -68,8 +62,7 @@ void LocalHeightMap::insert(const PointCloud& points, const SweepMotion& motion,
   scan.deltas.reserve(points.size() / 4);
   // The scan's own counts and sums per cell first (slot_ finds a cell's entry), so that it can
   // be subtracted exactly when it is evicted.
-  for (size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3f p = deskew ? motion.apply(i, points[i]) : points[i];
+  for (const Eigen::Vector3f& p : points) {
     // Written so that NaN fails every comparison.
     if (!(std::fabs(p.x()) <= half_x && std::fabs(p.y()) <= half_y && p.z() >= zlo &&
           p.z() <= zhi)) {

@@ -28,10 +28,7 @@ PointCloud withinRange(const PointCloud& points, double range) {
 }  // namespace
 
 LidarOdometry::LidarOdometry(const SlamParams& params)
-    : params_(params),
-      aligner_(params.registration.solver),
-      scan_map_(params.registration.grid.resolution, params.registration.grid.cols,
-                params.registration.grid.rows, params.odometry.local_map_scans) {}
+    : params_(params), aligner_(params.registration.solver) {}
 
 OdometryStep LidarOdometry::process(double time, const PointCloud& points,
                                     const std::vector<float>& point_times) {
@@ -80,7 +77,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
       velocity_updates_ = 0;
       // The scan map may be what went wrong (a bad scan inserted before the run): it restarts
       // from this scan rather than keep pulling the next ones back.
-      scan_map_.clear();
+      if (scan_map_) scan_map_->clear();
     }
     rejected_run_ = step.rejected ? rejected_run_ + 1 : 0;
   }
@@ -131,7 +128,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   if (params_.odometry.reference == 3 && !current_.empty() &&
       (first || (step.registered && !step.rejected))) {
     Stopwatch map_watch;
-    updateScanMap(cloud, pending, pose);
+    updateScanMap(cloud, pose);
     step.times.local_map_ms = map_watch.elapsedMs();
   }
 
@@ -245,9 +242,10 @@ void LidarOdometry::redoFirstKeyframe(OdometryStep& step) {
   if (reference == 3) {
     // The scan map starts again from the deskewed first scan (at 10 m/s the raw one is
     // stretched by a metre); this scan joins it next.
-    scan_map_.clear();
+    LocalHeightMap& map = scanMap();
+    map.clear();
     const DloParams& reg = params_.registration;
-    scan_map_.insert(first, last_pose_, reg.grid.min_z, reg.grid.max_z);
+    map.insert(first, last_pose_, reg.grid.min_z, reg.grid.max_z);
   }
   first_points_ = PointCloud();
   first_times_ = std::vector<float>();
@@ -261,14 +259,10 @@ void LidarOdometry::rebuildLocalMap() {
   std::vector<PosedCloud> parts;
   for (const RecentKeyframe& k : recent_)
     parts.push_back(PosedCloud{&k.cloud, anchor.inverse() * k.pose});
-  reference_.build(parts, reg.grid, reg.selection, reg.includeGround());
+  reference_.build(parts, reg.grid, reg.selection, reg.includeGround(), FrameUse::kReferenceOnly);
   reference_pose_ = anchor;
   has_reference_ = true;
 }
-
-}  // namespace dlo
-
-namespace dlo {
 
 void LidarOdometry::adaptToSensor(size_t points) {
   sensor_checked_ = true;
@@ -281,20 +275,28 @@ void LidarOdometry::adaptToSensor(size_t points) {
   g.resolution = o.sparse_resolution;
   g.cols = g.rows = o.sparse_cells;
   params_.odometry.reference = o.sparse_reference;
-  scan_map_ = LocalHeightMap(g.resolution, g.cols, g.rows, o.local_map_scans);
+  scan_map_.reset();  // made on first use, with this grid
   sparse_sensor_ = true;
 }
 
-void LidarOdometry::updateScanMap(const PointCloud& points, const SweepMotion& motion,
-                                  const Eigen::Isometry3d& pose) {
+LocalHeightMap& LidarOdometry::scanMap() {
+  if (!scan_map_) {
+    const HeightGridParams& g = params_.registration.grid;
+    scan_map_.emplace(g.resolution, g.cols, g.rows, params_.odometry.local_map_scans);
+  }
+  return *scan_map_;
+}
+
+void LidarOdometry::updateScanMap(const PointCloud& points, const Eigen::Isometry3d& pose) {
   const DloParams& reg = params_.registration;
-  scan_map_.insert(points, motion, pose, reg.grid.min_z, reg.grid.max_z);
+  LocalHeightMap& map = scanMap();
+  map.insert(points, pose, reg.grid.min_z, reg.grid.max_z);
   // The reference grid is axis-aligned in the odometry frame, its cells the map's own: no
   // resampling, the registration takes the heading into its initial guess.
-  reference_pose_ = scan_map_.windowPose(pose.translation());
+  reference_pose_ = map.windowPose(pose.translation());
   reference_.build(
-      [&](std::uint32_t* count, float* sum) { scan_map_.fillWindow(reference_pose_, count, sum); },
-      reg.grid, reg.selection, reg.includeGround());
+      [&](std::uint32_t* count, float* sum) { map.fillWindow(reference_pose_, count, sum); },
+      reg.grid, reg.selection, reg.includeGround(), FrameUse::kReferenceOnly);
   has_reference_ = true;
 }
 

@@ -62,7 +62,8 @@ class DirectAligner {
   explicit DirectAligner(const SolverParams& params = SolverParams());
 
   /// Pose of `current` in `reference`, starting from `initial_guess`. Throws
-  /// std::invalid_argument if `reference` was built FrameUse::kCurrentOnly.
+  /// std::invalid_argument if `reference` was built FrameUse::kCurrentOnly or `current`
+  /// FrameUse::kReferenceOnly.
   AlignmentResult align(const HeightFrame& reference, const HeightFrame& current,
                         const Eigen::Isometry3d& initial_guess) const;
 

@@ -24,10 +24,12 @@ struct FrameLevel {
 /// What a frame is built for. A registration reads the selected cells of the current scan and
 /// the samplers (gradient fields) of the reference. A scan that will never be a reference (the
 /// local map is the reference) skips its samplers and the hole filling of its finest level,
-/// which together cost more than its selection; its selected cells are the same either way.
+/// which together cost more than its selection; its selected cells are the same either way. A
+/// local map, only ever a reference, skips the selection.
 enum class FrameUse {
   kCurrentAndReference,  ///< everything: the frame can be either side of a registration
   kCurrentOnly,          ///< selected cells only; the levels' samplers are left unset
+  kReferenceOnly,        ///< samplers only; no cell is selected
 };
 
 /// Everything registration needs from one scan, computed once: a frame serves as the current
@@ -56,12 +58,14 @@ class HeightFrame {
              const HeightGridParams& grid, const SelectionParams& selection, bool include_ground);
   /// Rebuilds this frame from several posed clouds fused into one grid.
   void build(const std::vector<PosedCloud>& parts, const HeightGridParams& grid,
-             const SelectionParams& selection, bool include_ground);
+             const SelectionParams& selection, bool include_ground,
+             FrameUse use = FrameUse::kCurrentAndReference);
 
   /// Rebuilds this frame from cells accumulated elsewhere (see HeightGrid::accumulateCells()),
   /// in the centred geometry of `grid`, e.g. a LocalHeightMap window.
   void build(const HeightGrid::CellFiller& fill, const HeightGridParams& grid,
-             const SelectionParams& selection, bool include_ground);
+             const SelectionParams& selection, bool include_ground,
+             FrameUse use = FrameUse::kCurrentAndReference);
 
   /// Builds the pyramid from an existing finest-level grid.
   static HeightFrame fromGrid(const HeightGrid& finest, int levels,
@@ -71,6 +75,8 @@ class HeightFrame {
   bool empty() const { return levels_.empty() || levels_.front().grid.validCellCount() == 0; }
   /// False for a frame built FrameUse::kCurrentOnly: its samplers are not usable.
   bool canBeReference() const { return can_be_reference_; }
+  /// False for a frame built FrameUse::kReferenceOnly: it has no selected cells.
+  bool canBeCurrent() const { return can_be_current_; }
   /// Build time of this frame (grid, gradients, selection; solve_ms is zero).
   const StageTimes& buildTimes() const { return times_; }
 
@@ -84,6 +90,7 @@ class HeightFrame {
 
   std::vector<FrameLevel> levels_;
   bool can_be_reference_ = true;
+  bool can_be_current_ = true;
   StageTimes times_;
 };
 

@@ -9,7 +9,6 @@
 
 #include <Eigen/Geometry>
 
-#include "dlo/core/deskew.h"
 #include "dlo/core/grid_geometry.h"
 #include "dlo/core/point_cloud.h"
 
@@ -21,8 +20,9 @@ namespace dlo {
 /// Why: a single sparse scan (VLP-16, HDL-32) measures the ground only along its laser rings,
 /// and the rings travel with the sensor. Registered against such a scan, the edges between
 /// ring cells and hole-filled cells match best at zero motion: simulated VLP-16 drives lost a
-/// quarter of their forward motion frame to frame. The rings of ten scans, each placed at its
-/// registered pose, cover the ground densely, so the reference holds no sensor-locked pattern.
+/// quarter of their forward motion frame to frame. The rings of many scans (30 in dlo-slam),
+/// each placed at its registered pose, cover the ground densely, so the reference holds no
+/// sensor-locked pattern.
 ///
 /// Storage is a square of `span` x `span` cells addressed modulo `span` (a torus): inserting
 /// and evicting cost the points of one scan, and nothing moves when the vehicle does. Scans are
@@ -40,11 +40,6 @@ class LocalHeightMap {
   /// (vehicle in the odometry frame). Removes the oldest scan beyond max_scans and any scan
   /// farther from `pose` than evictionDistance().
   void insert(const PointCloud& points, const Eigen::Isometry3d& pose, double min_z, double max_z);
-  /// The same for a sweep deskewed on the fly: point i is taken at motion.apply(i, points[i]),
-  /// as if deskew(points, motion) had been inserted, without that copy. `motion` is ignored
-  /// unless it fits the cloud (SweepMotion::fits).
-  void insert(const PointCloud& points, const SweepMotion& motion, const Eigen::Isometry3d& pose,
-              double min_z, double max_z);
 
   /// Forgets every scan.
   void clear();
@@ -85,7 +80,7 @@ class LocalHeightMap {
   int span_;  ///< cells per side of the torus
   std::vector<std::uint32_t> count_;
   std::vector<float> sum_;
-  /// Per cell: 1 + index in deltas_scratch_ of the scan being inserted, 0 if untouched.
+  /// Per cell: 1 + index of its entry in the deltas of the scan being inserted, 0 if untouched.
   std::vector<std::uint32_t> slot_;
   std::deque<Scan> scans_;
 };

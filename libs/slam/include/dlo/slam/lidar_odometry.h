@@ -4,6 +4,7 @@
 #pragma once
 
 #include <deque>
+#include <optional>
 #include <vector>
 
 #include "dlo/core/direct_aligner.h"
@@ -89,10 +90,12 @@ class LidarOdometry {
   void rebuildLocalMap();
   /// On the first non-empty scan: switches to the sparse sensor's grid if it has few points.
   void adaptToSensor(size_t points);
-  /// reference = 3: adds a registered scan (deskewed by `motion` as it is inserted) to the
-  /// local height map and re-extracts the reference around its pose.
-  void updateScanMap(const PointCloud& points, const SweepMotion& motion,
-                     const Eigen::Isometry3d& pose);
+  /// reference = 3: adds a registered, deskewed scan to the local height map and re-extracts
+  /// the reference around its pose.
+  void updateScanMap(const PointCloud& points, const Eigen::Isometry3d& pose);
+  /// The scan map, made on first use: a dense sensor that never uses it does not pay for its
+  /// arrays (7.7 MB for the 400 x 400 grid).
+  LocalHeightMap& scanMap();
   void redoFirstKeyframe(OdometryStep& step);
   /// A keyframe's points within map_range, decimated for the local map (`fine`,
   /// keyframe_voxel) and for the long-term map (`coarse`, map_voxel).
@@ -105,7 +108,7 @@ class LidarOdometry {
   HeightFrame reference_;  ///< previous scan, last keyframe or local map
   Eigen::Isometry3d reference_pose_ = Eigen::Isometry3d::Identity();  ///< odometry frame
   std::deque<RecentKeyframe> recent_;
-  LocalHeightMap scan_map_;  ///< reference = 3
+  std::optional<LocalHeightMap> scan_map_;  ///< reference = 3, see scanMap()
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d last_keyframe_pose_ = Eigen::Isometry3d::Identity();
   Vector6d velocity_ = Vector6d::Zero();
