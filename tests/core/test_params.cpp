@@ -22,6 +22,17 @@ TEST(DloParams, RejectsAnUnknownDofNamingTheKey) {
   EXPECT_NE(p.validate().find("3 or 6"), std::string::npos);
 }
 
+TEST(DloParams, RejectsACoarseStepOfHalfACellOrMoreAndNaN) {
+  DloParams p;
+  p.solver.coarse_step = 0.0;  // 0: the coarse levels use the finest level's criteria
+  EXPECT_EQ(p.validate(), "");
+  p.solver.coarse_step = 0.6;
+  EXPECT_NE(p.validate().find("solver.coarse_step"), std::string::npos);
+  EXPECT_NE(p.validate().find("[0, 0.5]"), std::string::npos);
+  p.solver.coarse_step = std::nan("");
+  EXPECT_NE(p.validate().find("solver.coarse_step"), std::string::npos);
+}
+
 TEST(DloParams, RejectsNonPositiveResolutionAndNaN) {
   DloParams p;
   p.grid.resolution = 0.0;

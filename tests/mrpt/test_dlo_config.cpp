@@ -31,6 +31,7 @@ void expectSameParams(const DloParams& a, const DloParams& b) {
   EXPECT_EQ(a.solver.max_residual, b.solver.max_residual);
   EXPECT_EQ(a.solver.min_step_translation, b.solver.min_step_translation);
   EXPECT_EQ(a.solver.min_step_rotation, b.solver.min_step_rotation);
+  EXPECT_EQ(a.solver.coarse_step, b.solver.coarse_step);
   EXPECT_EQ(a.solver.min_cells, b.solver.min_cells);
   EXPECT_EQ(a.solver.degeneracy_eigen_ratio, b.solver.degeneracy_eigen_ratio);
   EXPECT_EQ(a.solver.rotation_scale, b.solver.rotation_scale);
@@ -56,6 +57,7 @@ DloParams nonDefaultParams() {
   p.solver.max_residual = 1.5;
   p.solver.min_step_translation = 2e-4;
   p.solver.min_step_rotation = 3e-5;
+  p.solver.coarse_step = 0.02;
   p.solver.min_cells = 40;
   p.solver.degeneracy_eigen_ratio = 2e-3;
   p.solver.rotation_scale = 12.0;
@@ -85,6 +87,7 @@ huber_delta = 0.2
 max_residual = 1.5
 min_step_translation = 2e-4
 min_step_rotation = 3e-5
+coarse_step = 0.02
 min_cells = 40
 degeneracy_eigen_ratio = 2e-3
 rotation_scale = 12
@@ -219,7 +222,7 @@ TEST(DloConfig, DumpHasOneCommentLinePerKey) {
     }
     previous = line;
   }
-  EXPECT_EQ(keys, 20);
+  EXPECT_EQ(keys, 21);
 }
 
 TEST(DloConfig, SaveThenLoadGivesTheSameParams) {

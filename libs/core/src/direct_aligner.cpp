@@ -230,8 +230,13 @@ bool refine(const SolverParams& p, const HeightFrame& reference, const HeightFra
     // the cell size.
     const double scale = static_cast<double>(1 << level);
     const double delta = p.huber_delta * scale;
-    const double min_dt = p.min_step_translation * scale;
-    const double min_dr = p.min_step_rotation * scale;
+    double min_dt = p.min_step_translation * scale;
+    double min_dr = p.min_step_rotation * scale;
+    if (level > finest) {
+      const double cell = reference.levels()[level].grid.resolution();
+      min_dt = std::max(min_dt, p.coarse_step * cell);
+      min_dr = std::max(min_dr, p.coarse_step * cell / p.rotation_scale);
+    }
     double gain = 1.0;
     Vector6d previous = Vector6d::Zero();
     converged = false;

@@ -36,6 +36,8 @@ std::string DloParams::validate() const {
     return outOfRange("solver.min_step_translation", solver.min_step_translation, "> 0");
   if (!(solver.min_step_rotation > 0.0))
     return outOfRange("solver.min_step_rotation", solver.min_step_rotation, "> 0");
+  if (!(solver.coarse_step >= 0.0 && solver.coarse_step <= 0.5))
+    return outOfRange("solver.coarse_step", solver.coarse_step, "[0, 0.5] (a fraction of a cell)");
   if (solver.min_cells < 1) return outOfRange("solver.min_cells", solver.min_cells, ">= 1");
   if (!(solver.degeneracy_eigen_ratio >= 0.0 && solver.degeneracy_eigen_ratio < 1.0))
     return outOfRange("solver.degeneracy_eigen_ratio", solver.degeneracy_eigen_ratio, "[0, 1)");

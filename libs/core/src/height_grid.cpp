@@ -5,6 +5,10 @@
 #include <limits>
 #include <stdexcept>
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 namespace dlo {
 
 HeightGrid HeightGrid::fromPoints(const PointCloud& points, const GridGeometry& geometry,
@@ -16,31 +20,197 @@ HeightGrid HeightGrid::fromPoints(const PointCloud& points, const GridGeometry& 
 
 namespace {
 
-/// Bins points into `count` and `sum` in one pass. `get(items, i, p, n)` yields item i as a point
-/// in the grid frame and how many raw points it stands for; written so that NaN fails every
-/// comparison.
-template <typename Range, typename Get>
-void accumulate(const Range& items, Get get, const GridGeometry& geometry, double min_z,
-                double max_z, std::uint32_t* count, float* sum) {
-  const float inv_res = static_cast<float>(1.0 / geometry.resolution);
-  const float x0 = static_cast<float>(geometry.x_min);
-  const float y0 = static_cast<float>(geometry.y_min);
-  const float cols = static_cast<float>(geometry.cols);
-  const float rows = static_cast<float>(geometry.rows);
-  const float zlo = static_cast<float>(min_z);
-  const float zhi = static_cast<float>(max_z);
-  Eigen::Vector3f p;
-  std::uint32_t n = 1;
-  for (size_t i = 0; i < items.size(); ++i) {
-    get(items, i, p, n);
-    const float u = (p.x() - x0) * inv_res;
-    const float v = (p.y() - y0) * inv_res;
-    if (!(u >= 0.0f && u < cols && v >= 0.0f && v < rows && p.z() >= zlo && p.z() <= zhi)) {
-      continue;
+/// The arithmetic half of rasterisation, kept apart from the scatter into cells so that it
+/// vectorises: which cell each point falls in and its height, for points mapped by a row-major
+/// 3 x 4 pose [R | t]. Points outside the grid or the height band (NaN fails every comparison)
+/// go to the discard cell after the grid's cells, so that the scatter has no branch on data:
+/// which points fall outside is as good as random along a sweep (near and far rings
+/// interleave), and mispredicting it cost more than the rest of the loop.
+class CellMapper {
+ public:
+  CellMapper(const GridGeometry& geometry, double min_z, double max_z)
+      : inv_res_(static_cast<float>(1.0 / geometry.resolution)),
+        x0_(static_cast<float>(geometry.x_min)),
+        y0_(static_cast<float>(geometry.y_min)),
+        cols_(static_cast<float>(geometry.cols)),
+        rows_(static_cast<float>(geometry.rows)),
+        zlo_(static_cast<float>(min_z)),
+        zhi_(static_cast<float>(max_z)),
+        grid_cols_(geometry.cols),
+        discard_(geometry.cellCount()) {}
+
+  /// Cell index and height of p[0..n) mapped by `m`, into idx[0..n) and z[0..n).
+  void map(const Eigen::Vector3f* p, size_t n, const float* m, int* __restrict__ idx,
+           float* __restrict__ z) const {
+    const float* __restrict__ q = p->data();
+    size_t k = 0;
+#ifdef __SSE2__
+    const Pose4 pose(m);
+    for (; k + 4 <= n; k += 4) {
+      // a = x0 y0 z0 x1, b = y1 z1 x2 y2, c = z2 x3 y3 z3: deinterleave into x, y, z.
+      const __m128 a = _mm_loadu_ps(q + 3 * k);
+      const __m128 b = _mm_loadu_ps(q + 3 * k + 4);
+      const __m128 c = _mm_loadu_ps(q + 3 * k + 8);
+      const __m128 bc = _mm_shuffle_ps(b, c, _MM_SHUFFLE(1, 1, 2, 2));
+      const __m128 px = _mm_shuffle_ps(a, bc, _MM_SHUFFLE(2, 0, 3, 0));
+      const __m128 py =
+          _mm_shuffle_ps(_mm_shuffle_ps(a, b, _MM_SHUFFLE(0, 0, 1, 1)),
+                         _mm_shuffle_ps(b, c, _MM_SHUFFLE(2, 2, 3, 3)), _MM_SHUFFLE(2, 0, 2, 0));
+      const __m128 pz =
+          _mm_shuffle_ps(_mm_shuffle_ps(a, b, _MM_SHUFFLE(1, 1, 2, 2)),
+                         _mm_shuffle_ps(c, c, _MM_SHUFFLE(3, 3, 0, 0)), _MM_SHUFFLE(2, 0, 2, 0));
+      cells4(pose, px, py, pz, idx + k, z + k);
     }
-    const int idx = static_cast<int>(v) * geometry.cols + static_cast<int>(u);
-    count[idx] += n;
-    sum[idx] += static_cast<float>(n) * p.z();
+#endif
+    for (; k < n; ++k) cell1(m, q[3 * k], q[3 * k + 1], q[3 * k + 2], idx[k], z[k]);
+  }
+
+  /// The same for weighted points; their weights go to w[0..n).
+  void map(const WeightedPoint* p, size_t n, const float* m, int* __restrict__ idx,
+           float* __restrict__ z, std::uint32_t* __restrict__ w) const {
+    static_assert(sizeof(WeightedPoint) == 4 * sizeof(float), "x y z n, packed");
+    const float* __restrict__ q = p->p.data();
+    size_t k = 0;
+#ifdef __SSE2__
+    const Pose4 pose(m);
+    for (; k + 4 <= n; k += 4) {
+      // Four rows of x y z n, transposed into columns.
+      __m128 px = _mm_loadu_ps(q + 4 * k);
+      __m128 py = _mm_loadu_ps(q + 4 * k + 4);
+      __m128 pz = _mm_loadu_ps(q + 4 * k + 8);
+      __m128 pn = _mm_loadu_ps(q + 4 * k + 12);
+      _MM_TRANSPOSE4_PS(px, py, pz, pn);
+      cells4(pose, px, py, pz, idx + k, z + k);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(w + k), _mm_castps_si128(pn));
+    }
+#endif
+    for (; k < n; ++k) {
+      cell1(m, p[k].p.x(), p[k].p.y(), p[k].p.z(), idx[k], z[k]);
+      w[k] = p[k].n;
+    }
+  }
+
+ private:
+  /// One point, scalar: the reference the vector code follows operation for operation.
+  void cell1(const float* m, float px, float py, float pz, int& idx, float& z) const {
+    const float x = m[0] * px + m[1] * py + m[2] * pz + m[3];
+    const float y = m[4] * px + m[5] * py + m[6] * pz + m[7];
+    const float h = m[8] * px + m[9] * py + m[10] * pz + m[11];
+    const float u = (x - x0_) * inv_res_;
+    const float v = (y - y0_) * inv_res_;
+    // NaN fails every comparison; out-of-range floats are never converted to int.
+    const bool inside = u >= 0.0f && u < cols_ && v >= 0.0f && v < rows_ && h >= zlo_ && h <= zhi_;
+    idx = inside ? static_cast<int>(v) * grid_cols_ + static_cast<int>(u) : discard_;
+    z = h;
+  }
+
+#ifdef __SSE2__
+  /// The pose broadcast into vectors.
+  struct Pose4 {
+    explicit Pose4(const float* m) {
+      for (int i = 0; i < 12; ++i) r[i] = _mm_set1_ps(m[i]);
+    }
+    __m128 r[12];
+  };
+
+  /// Four points at a time (SSE2 is part of x86-64). The compiler does not vectorise the scalar
+  /// code by itself: float compares may trap, which keeps it from if-converting them, and SSE2
+  /// has no 32-bit integer multiply. Same operations in the same order as cell1(), so both give
+  /// the same cells.
+  void cells4(const Pose4& m, __m128 px, __m128 py, __m128 pz, int* idx, float* z) const {
+    const auto row = [&](int i) {
+      return _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(m.r[i], px), _mm_mul_ps(m.r[i + 1], py)),
+                                   _mm_mul_ps(m.r[i + 2], pz)),
+                        m.r[i + 3]);
+    };
+    const __m128 x = row(0), y = row(4), h = row(8);
+    const __m128 u = _mm_mul_ps(_mm_sub_ps(x, _mm_set1_ps(x0_)), _mm_set1_ps(inv_res_));
+    const __m128 v = _mm_mul_ps(_mm_sub_ps(y, _mm_set1_ps(y0_)), _mm_set1_ps(inv_res_));
+    const __m128 zero = _mm_setzero_ps();
+    // Ordered compares: false for NaN.
+    const __m128 inside = _mm_and_ps(
+        _mm_and_ps(_mm_and_ps(_mm_cmpge_ps(u, zero), _mm_cmplt_ps(u, _mm_set1_ps(cols_))),
+                   _mm_and_ps(_mm_cmpge_ps(v, zero), _mm_cmplt_ps(v, _mm_set1_ps(rows_)))),
+        _mm_and_ps(_mm_cmpge_ps(h, _mm_set1_ps(zlo_)), _mm_cmple_ps(h, _mm_set1_ps(zhi_))));
+    const __m128i col = _mm_cvttps_epi32(_mm_and_ps(inside, u));
+    const __m128i r = _mm_cvttps_epi32(_mm_and_ps(inside, v));
+    // r * grid_cols in 32 bits: lanes 0 and 2, then 1 and 3.
+    const __m128i cols = _mm_set1_epi32(grid_cols_);
+    const __m128i even = _mm_mul_epu32(r, cols);
+    const __m128i odd = _mm_mul_epu32(_mm_srli_epi64(r, 32), cols);
+    const __m128i prod = _mm_unpacklo_epi32(_mm_shuffle_epi32(even, _MM_SHUFFLE(0, 0, 2, 0)),
+                                            _mm_shuffle_epi32(odd, _MM_SHUFFLE(0, 0, 2, 0)));
+    const __m128i cell = _mm_add_epi32(prod, col);
+    const __m128i in = _mm_castps_si128(inside);
+    _mm_storeu_si128(
+        reinterpret_cast<__m128i*>(idx),
+        _mm_or_si128(_mm_and_si128(in, cell), _mm_andnot_si128(in, _mm_set1_epi32(discard_))));
+    _mm_storeu_ps(z, h);
+  }
+#endif
+
+  float inv_res_, x0_, y0_, cols_, rows_, zlo_, zhi_;
+  int grid_cols_, discard_;
+};
+
+/// Points are mapped in batches of this many: small enough for the stack and the L1 cache.
+constexpr size_t kBatch = 256;
+
+/// Rasterises a sweep, deskewed by `motion` if it fits, in batches: the cells of a batch are
+/// computed first (vectorised, one pose per run of points in the same time bin; a sweep in
+/// firing order has runs of hundreds of points), then scattered.
+void rasteriseSweep(const PointCloud& points, const SweepMotion& motion,
+                    const GridGeometry& geometry, double min_z, double max_z, std::uint32_t* count,
+                    float* sum) {
+  static constexpr float kIdentity[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+  const CellMapper mapper(geometry, min_z, max_z);
+  const bool moving = motion.fits(points.size());
+  int idx[kBatch];
+  float z[kBatch];
+  int bin[kBatch];
+  for (size_t first = 0; first < points.size(); first += kBatch) {
+    const size_t n = std::min(kBatch, points.size() - first);
+    const Eigen::Vector3f* p = points.data() + first;
+    if (!moving) {
+      mapper.map(p, n, kIdentity, idx, z);
+    } else {
+      const float* t = motion.times().data() + first;
+      for (size_t k = 0; k < n; ++k) bin[k] = motion.bin(t[k]);
+      for (size_t k = 0; k < n;) {
+        size_t end = k + 1;
+        while (end < n && bin[end] == bin[k]) ++end;
+        mapper.map(p + k, end - k, motion.rowMajorPose(bin[k]), idx + k, z + k);
+        k = end;
+      }
+    }
+    for (size_t k = 0; k < n; ++k) {
+      count[idx[k]] += 1;
+      sum[idx[k]] += z[k];
+    }
+  }
+}
+
+/// Rasterises weighted points seen from `pose` in batches, like rasteriseSweep().
+void rasteriseWeighted(const WeightedCloud& points, const Eigen::Isometry3d& pose,
+                       const GridGeometry& geometry, double min_z, double max_z,
+                       std::uint32_t* count, float* sum) {
+  const Eigen::Isometry3f T = pose.cast<float>();
+  float m[12];
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) m[4 * r + c] = T.linear()(r, c);
+    m[4 * r + 3] = T.translation()(r);
+  }
+  const CellMapper mapper(geometry, min_z, max_z);
+  int idx[kBatch];
+  float z[kBatch];
+  std::uint32_t w[kBatch];
+  for (size_t first = 0; first < points.size(); first += kBatch) {
+    const size_t n = std::min(kBatch, points.size() - first);
+    mapper.map(points.data() + first, n, m, idx, z, w);
+    for (size_t k = 0; k < n; ++k) {
+      count[idx[k]] += w[k];
+      sum[idx[k]] += static_cast<float>(w[k]) * z[k];
+    }
   }
 }
 
@@ -56,20 +226,8 @@ void HeightGrid::rasterise(const PointCloud& points, const SweepMotion& motion,
                            double max_z) {
   geometry_ = geometry;
   min_points_ = min_points;
-  count_.assign(geometry.cellCount(), 0u);
-  sum_z_.assign(geometry.cellCount(), 0.0f);
-  if (motion.fits(points.size())) {
-    accumulate(
-        points,
-        [&motion](const PointCloud& c, size_t i, Eigen::Vector3f& p, std::uint32_t&) {
-          p = motion.apply(i, c[i]);
-        },
-        geometry, min_z, max_z, count_.data(), sum_z_.data());
-  } else {
-    accumulate(
-        points, [](const PointCloud& c, size_t i, Eigen::Vector3f& p, std::uint32_t&) { p = c[i]; },
-        geometry, min_z, max_z, count_.data(), sum_z_.data());
-  }
+  clearSums();
+  rasteriseSweep(points, motion, geometry, min_z, max_z, count_.data(), sum_z_.data());
   finalise();
 }
 
@@ -83,17 +241,9 @@ void HeightGrid::rasterise(const std::vector<PosedCloud>& parts, const GridGeome
                            int min_points, double min_z, double max_z) {
   geometry_ = geometry;
   min_points_ = min_points;
-  count_.assign(geometry.cellCount(), 0u);
-  sum_z_.assign(geometry.cellCount(), 0.0f);
+  clearSums();
   for (const PosedCloud& part : parts) {
-    const Eigen::Isometry3f T = part.pose.cast<float>();
-    accumulate(
-        *part.cloud,
-        [&T](const WeightedCloud& c, size_t i, Eigen::Vector3f& p, std::uint32_t& n) {
-          p = T * c[i].p;
-          n = c[i].n;
-        },
-        geometry, min_z, max_z, count_.data(), sum_z_.data());
+    rasteriseWeighted(*part.cloud, part.pose, geometry, min_z, max_z, count_.data(), sum_z_.data());
   }
   finalise();
 }
@@ -102,8 +252,7 @@ void HeightGrid::accumulateCells(const GridGeometry& geometry, int min_points,
                                  const CellFiller& fill) {
   geometry_ = geometry;
   min_points_ = min_points;
-  count_.assign(geometry.cellCount(), 0u);
-  sum_z_.assign(geometry.cellCount(), 0.0f);
+  clearSums();
   fill(count_.data(), sum_z_.data());
   finalise();
 }
@@ -115,8 +264,7 @@ HeightGrid HeightGrid::fromCells(const GridGeometry& geometry,
   g.geometry_ = geometry;
   g.min_points_ = min_points;
   const int n = geometry.cellCount();
-  g.count_.assign(n, 0u);
-  g.sum_z_.assign(n, 0.0f);
+  g.clearSums();
   for (int i = 0;
        i < n && i < static_cast<int>(mean_heights.size()) && i < static_cast<int>(counts.size());
        ++i) {
@@ -138,9 +286,7 @@ void HeightGrid::poolFrom(const HeightGrid& finer) {
   HeightGrid& g = *this;
   g.geometry_ = finer.geometry_.coarser();
   g.min_points_ = finer.min_points_;
-  const int n = g.geometry_.cellCount();
-  g.count_.assign(n, 0u);
-  g.sum_z_.assign(n, 0.0f);
+  g.clearSums();
   const int cols = finer.geometry_.cols;
   for (int r = 0; r < finer.geometry_.rows; ++r) {
     const int cr = (r / 2) * g.geometry_.cols;
@@ -159,6 +305,12 @@ void HeightGrid::poolFrom(const HeightGrid& finer) {
     }
   }
   g.finalise();
+}
+
+void HeightGrid::clearSums() {
+  const size_t n = static_cast<size_t>(geometry_.cellCount()) + 1;  // + the discard cell
+  count_.assign(n, 0u);
+  sum_z_.assign(n, 0.0f);
 }
 
 void HeightGrid::finalise() {

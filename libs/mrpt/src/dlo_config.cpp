@@ -51,6 +51,8 @@ const std::vector<ParamField<DloParams>>& fields() {
             "convergence: translation update below this (m)"),
       field("solver", "min_step_rotation", &D::solver, &V::min_step_rotation,
             "convergence: rotation update below this (rad)"),
+      field("solver", "coarse_step", &D::solver, &V::coarse_step,
+            "convergence of the coarse levels: update below this fraction of their cell size"),
       field("solver", "min_cells", &D::solver, &V::min_cells,
             "fewer usable cells than this: degenerate"),
       field("solver", "degeneracy_eigen_ratio", &D::solver, &V::degeneracy_eigen_ratio,

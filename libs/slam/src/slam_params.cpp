@@ -38,8 +38,9 @@ std::string SlamParams::validate() const {
     return outOfRange("odometry.keyframe_angle", o.keyframe_angle, "a positive angle in degrees");
   if (!(o.keyframe_max_rms > 0.0))
     return outOfRange("odometry.keyframe_max_rms", o.keyframe_max_rms, "a positive height");
-  if (!(o.keyframe_voxel > 0.0 && o.keyframe_voxel <= 1.0))
-    return outOfRange("odometry.keyframe_voxel", o.keyframe_voxel, "(0, 1] metres");
+  if (!(o.keyframe_voxel >= 0.0 && o.keyframe_voxel <= 1.0))
+    return outOfRange("odometry.keyframe_voxel", o.keyframe_voxel,
+                      "[0, 1] metres (0: no decimation)");
   if (!(o.map_voxel > 0.0 && o.map_voxel <= 5.0))
     return outOfRange("odometry.map_voxel", o.map_voxel, "(0, 5] metres");
   if (!(o.map_range > 1.0)) return outOfRange("odometry.map_range", o.map_range, "> 1 metre");

@@ -35,13 +35,23 @@ class SweepMotion {
   /// Point `p`, measured at times[i], expressed in the vehicle frame at t = 0. Only valid
   /// when !empty().
   Eigen::Vector3f apply(size_t i, const Eigen::Vector3f& p) const {
+    return motion_[static_cast<size_t>(bin((*times_)[i]))] * p;
+  }
+  /// The bin of a point measured at time `t`: the nearest of 0..bins(). Only valid when
+  /// !empty().
+  int bin(float t) const {
     // The nearest bin, as std::lround would round (half away from zero) but without a library
     // call per point: f - trunc(f) is exact for these magnitudes.
-    const float f = ((*times_)[i] - lo_) / span_ * static_cast<float>(bins_);
-    const int t = static_cast<int>(f);
-    const int b = std::clamp(t + (f - static_cast<float>(t) >= 0.5f ? 1 : 0), 0, bins_);
-    return motion_[static_cast<size_t>(b)] * p;
+    const float f = (t - lo_) / span_ * static_cast<float>(bins_);
+    const int i = static_cast<int>(f);
+    return std::clamp(i + (f - static_cast<float>(i) >= 0.5f ? 1 : 0), 0, bins_);
   }
+  /// Number of time steps; bins() + 1 poses are tabulated.
+  int bins() const { return bins_; }
+  /// Per-point times (only valid when !empty()).
+  const std::vector<float>& times() const { return *times_; }
+  /// Pose of bin `b` (0..bins()) as a row-major 3 x 4 matrix [R | t], 12 floats.
+  const float* rowMajorPose(int b) const { return &row_major_[static_cast<size_t>(b) * 12]; }
 
  private:
   const std::vector<float>* times_ = nullptr;
@@ -49,6 +59,7 @@ class SweepMotion {
   float span_ = 1.0f;  ///< seconds from the first to the last time
   int bins_ = 0;
   std::vector<Eigen::Isometry3f> motion_;  ///< pose of bin b, bins + 1 entries
+  std::vector<float> row_major_;           ///< the same poses, 12 floats each (rowMajorPose)
 };
 
 /// Expresses every point in the vehicle frame at the sweep's reference time (t = 0); see

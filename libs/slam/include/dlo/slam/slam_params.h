@@ -45,10 +45,14 @@ struct OdometryParams {
   double keyframe_distance = 2.0;  ///< metres travelled since the last keyframe: new keyframe
   double keyframe_angle = 10.0;    ///< degrees turned since the last keyframe: new keyframe
   double keyframe_max_rms = 0.3;   ///< registration RMS height error (m) above this: new keyframe
-  double keyframe_voxel = 0.05;    ///< metres; decimation of keyframe clouds for the local map
-  double map_voxel = 0.2;          ///< metres; decimation of keyframe clouds kept for the map
-  double map_range = 40.0;         ///< metres; keyframe points farther than this are not kept
-  int deskew = 1;                  ///< 1: undo motion distortion when points carry times
+  /// metres; decimation of keyframe clouds for the local map; 0 keeps every point (at 0.05 m an
+  /// HDL-64 sweep keeps 100k of 129k points, for 3.4 ms of hashing per keyframe, but every
+  /// point let the simulated open field of the degenerate-scene tests leave its street with a
+  /// 1.8 deg yaw error against 0.04 deg)
+  double keyframe_voxel = 0.05;
+  double map_voxel = 0.2;   ///< metres; decimation of keyframe clouds kept for the map
+  double map_range = 40.0;  ///< metres; keyframe points farther than this are not kept
+  int deskew = 1;           ///< 1: undo motion distortion when points carry times
   /// Keyframe clouds kept in memory; older ones move to a temporary file and are read back
   /// when a loop closure or the export needs them, so memory stays flat on long runs. 0: all
   /// stay in memory.
