@@ -5,6 +5,13 @@
 
 namespace dlo {
 
+RowMajorPose::RowMajorPose(const Eigen::Isometry3f& pose) {
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) m[4 * r + c] = pose.linear()(r, c);
+    m[4 * r + 3] = pose.translation()(r);
+  }
+}
+
 SweepMotion::SweepMotion(const std::vector<float>& times, const Vector6d& velocity, int bins) {
   if (times.empty() || bins < 1) return;
   const auto [lo_it, hi_it] = std::minmax_element(times.begin(), times.end());
@@ -15,15 +22,9 @@ SweepMotion::SweepMotion(const std::vector<float>& times, const Vector6d& veloci
   span_ = span;
   bins_ = bins;
   motion_.resize(static_cast<size_t>(bins) + 1);
-  row_major_.resize(motion_.size() * 12);
   for (int b = 0; b <= bins; ++b) {
     const double t = lo + static_cast<double>(span) * b / bins;
-    motion_[b] = expSE3(velocity * t).cast<float>();
-    float* m = &row_major_[static_cast<size_t>(b) * 12];
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) m[4 * r + c] = motion_[b].linear()(r, c);
-      m[4 * r + 3] = motion_[b].translation()(r);
-    }
+    motion_[b] = RowMajorPose(expSE3(velocity * t).cast<float>());
   }
 }
 

@@ -40,7 +40,7 @@ class CellMapper {
         discard_(geometry.cellCount()) {}
 
   /// Cell index and height of p[0..n) mapped by `m`, into idx[0..n) and z[0..n).
-  void map(const Eigen::Vector3f* p, size_t n, const float* m, int* __restrict__ idx,
+  void map(const Eigen::Vector3f* p, size_t n, const RowMajorPose& m, int* __restrict__ idx,
            float* __restrict__ z) const {
     const float* __restrict__ q = p->data();
     size_t k = 0;
@@ -66,7 +66,7 @@ class CellMapper {
   }
 
   /// The same for weighted points; their weights go to w[0..n).
-  void map(const WeightedPoint* p, size_t n, const float* m, int* __restrict__ idx,
+  void map(const WeightedPoint* p, size_t n, const RowMajorPose& m, int* __restrict__ idx,
            float* __restrict__ z, std::uint32_t* __restrict__ w) const {
     static_assert(sizeof(WeightedPoint) == 4 * sizeof(float), "x y z n, packed");
     const float* __restrict__ q = p->p.data();
@@ -92,10 +92,9 @@ class CellMapper {
 
  private:
   /// One point, scalar: the reference the vector code follows operation for operation.
-  void cell1(const float* m, float px, float py, float pz, int& idx, float& z) const {
-    const float x = m[0] * px + m[1] * py + m[2] * pz + m[3];
-    const float y = m[4] * px + m[5] * py + m[6] * pz + m[7];
-    const float h = m[8] * px + m[9] * py + m[10] * pz + m[11];
+  void cell1(const RowMajorPose& m, float px, float py, float pz, int& idx, float& z) const {
+    float x, y, h;
+    m.apply(px, py, pz, x, y, h);
     const float u = (x - x0_) * inv_res_;
     const float v = (y - y0_) * inv_res_;
     // NaN fails every comparison; out-of-range floats are never converted to int.
@@ -107,8 +106,8 @@ class CellMapper {
 #ifdef __SSE2__
   /// The pose broadcast into vectors.
   struct Pose4 {
-    explicit Pose4(const float* m) {
-      for (int i = 0; i < 12; ++i) r[i] = _mm_set1_ps(m[i]);
+    explicit Pose4(const RowMajorPose& m) {
+      for (int i = 0; i < 12; ++i) r[i] = _mm_set1_ps(m.m[i]);
     }
     __m128 r[12];
   };
@@ -162,7 +161,6 @@ constexpr size_t kBatch = 256;
 void rasteriseSweep(const PointCloud& points, const SweepMotion& motion,
                     const GridGeometry& geometry, double min_z, double max_z, std::uint32_t* count,
                     float* sum) {
-  static constexpr float kIdentity[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
   const CellMapper mapper(geometry, min_z, max_z);
   const bool moving = motion.fits(points.size());
   int idx[kBatch];
@@ -172,14 +170,14 @@ void rasteriseSweep(const PointCloud& points, const SweepMotion& motion,
     const size_t n = std::min(kBatch, points.size() - first);
     const Eigen::Vector3f* p = points.data() + first;
     if (!moving) {
-      mapper.map(p, n, kIdentity, idx, z);
+      mapper.map(p, n, RowMajorPose(), idx, z);
     } else {
       const float* t = motion.times().data() + first;
       for (size_t k = 0; k < n; ++k) bin[k] = motion.bin(t[k]);
       for (size_t k = 0; k < n;) {
         size_t end = k + 1;
         while (end < n && bin[end] == bin[k]) ++end;
-        mapper.map(p + k, end - k, motion.rowMajorPose(bin[k]), idx + k, z + k);
+        mapper.map(p + k, end - k, motion.pose(bin[k]), idx + k, z + k);
         k = end;
       }
     }
@@ -194,12 +192,7 @@ void rasteriseSweep(const PointCloud& points, const SweepMotion& motion,
 void rasteriseWeighted(const WeightedCloud& points, const Eigen::Isometry3d& pose,
                        const GridGeometry& geometry, double min_z, double max_z,
                        std::uint32_t* count, float* sum) {
-  const Eigen::Isometry3f T = pose.cast<float>();
-  float m[12];
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) m[4 * r + c] = T.linear()(r, c);
-    m[4 * r + 3] = T.translation()(r);
-  }
+  const RowMajorPose m(pose.cast<float>());
   const CellMapper mapper(geometry, min_z, max_z);
   int idx[kBatch];
   float z[kBatch];

@@ -225,16 +225,17 @@ void LidarOdometry::decimate(const PointCloud& points, WeightedCloud& fine,
                              WeightedCloud& coarse) const {
   const OdometryParams& o = params_.odometry;
   const PointCloud near = withinRange(points, o.map_range);
-  if (o.keyframe_voxel > 0.0) {
-    fine = voxelise(near, o.keyframe_voxel);
-    coarse = voxelise(fine, o.map_voxel);
-    return;
-  }
-  // No decimation: at 0.05 m an HDL-64 sweep keeps 100k of its 129k points, and hashing them
-  // cost more than the rest of a keyframe; rasterising the 30% more points costs less. Only
-  // the keyframe local map (reference 1 or 2) reads `fine`.
   fine.clear();
+  // Only the keyframe map (reference 1 or 2) reads `fine`: frame to frame and with the scan map
+  // (sparse sensors, a keyframe nearly every scan) it is not made at all.
   if (o.reference == 1 || o.reference == 2) {
+    if (o.keyframe_voxel > 0.0) {
+      fine = voxelise(near, o.keyframe_voxel);
+      coarse = voxelise(fine, o.map_voxel);
+      return;
+    }
+    // No decimation: at 0.05 m an HDL-64 sweep keeps 100k of its 129k points, and hashing them
+    // cost more than the rest of a keyframe; rasterising the 30% more points costs less.
     fine.resize(near.size());
     for (size_t i = 0; i < near.size(); ++i) fine[i] = WeightedPoint{near[i], 1u};
   }

@@ -11,6 +11,25 @@
 
 namespace dlo {
 
+/// A pose as a row-major 3 x 4 matrix [R | t] of floats, the layout the point loops read.
+struct RowMajorPose {
+  RowMajorPose() = default;
+  explicit RowMajorPose(const Eigen::Isometry3f& pose);
+  /// R p + t, each row summed left to right: the vectorised rasterisation follows the same
+  /// order, so a cloud moved by this and one moved while rasterised fall in the same cells.
+  void apply(float px, float py, float pz, float& x, float& y, float& z) const {
+    x = m[0] * px + m[1] * py + m[2] * pz + m[3];
+    y = m[4] * px + m[5] * py + m[6] * pz + m[7];
+    z = m[8] * px + m[9] * py + m[10] * pz + m[11];
+  }
+  Eigen::Vector3f operator*(const Eigen::Vector3f& p) const {
+    Eigen::Vector3f q;
+    apply(p.x(), p.y(), p.z(), q.x(), q.y(), q.z());
+    return q;
+  }
+  float m[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};  ///< identity by default
+};
+
 /// The motion of the vehicle during one sweep, tabulated so that it can be applied point by point
 /// while the points are used for something else (rasterised), with no deskewed copy of the cloud.
 /// Point i was measured at `times[i]` seconds (relative to the reference, t = 0) in the vehicle
@@ -50,16 +69,15 @@ class SweepMotion {
   int bins() const { return bins_; }
   /// Per-point times (only valid when !empty()).
   const std::vector<float>& times() const { return *times_; }
-  /// Pose of bin `b` (0..bins()) as a row-major 3 x 4 matrix [R | t], 12 floats.
-  const float* rowMajorPose(int b) const { return &row_major_[static_cast<size_t>(b) * 12]; }
+  /// Pose of bin `b` (0..bins()).
+  const RowMajorPose& pose(int b) const { return motion_[static_cast<size_t>(b)]; }
 
  private:
   const std::vector<float>* times_ = nullptr;
   float lo_ = 0.0f;
   float span_ = 1.0f;  ///< seconds from the first to the last time
   int bins_ = 0;
-  std::vector<Eigen::Isometry3f> motion_;  ///< pose of bin b, bins + 1 entries
-  std::vector<float> row_major_;           ///< the same poses, 12 floats each (rowMajorPose)
+  std::vector<RowMajorPose> motion_;  ///< pose of bin b, bins + 1 entries
 };
 
 /// Expresses every point in the vehicle frame at the sweep's reference time (t = 0); see

@@ -98,8 +98,8 @@ class LidarOdometry {
   LocalHeightMap& scanMap();
   void redoFirstKeyframe(OdometryStep& step);
   /// A keyframe's points within map_range, decimated for the local map (`fine`,
-  /// keyframe_voxel; with keyframe_voxel 0 every point, and left empty unless the keyframe map
-  /// is the reference) and for the long-term map (`coarse`, map_voxel).
+  /// keyframe_voxel, 0 = every point; left empty unless the keyframe map is the reference)
+  /// and for the long-term map (`coarse`, map_voxel).
   void decimate(const PointCloud& points, WeightedCloud& fine, WeightedCloud& coarse) const;
 
   SlamParams params_;
