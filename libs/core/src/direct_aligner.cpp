@@ -34,6 +34,34 @@ struct NormalEquations {
   int n = 0;                 ///< inlier residuals
 };
 
+/// Float sums of H (its upper triangle, column by column) and b over a block of cells. The
+/// products are Eigen's rankUpdate(J, w) and (w e) J, in the same order, without the call.
+template <int N>
+struct BlockSums {
+  static constexpr int kUpper = N * (N + 1) / 2;
+  float H[kUpper] = {};
+  float b[N] = {};
+
+  void add(const Eigen::Matrix<float, N, 1>& J, float w, float e) {
+    int k = 0;
+    for (int j = 0; j < N; ++j) {
+      const float wj = w * J(j);
+      for (int i = 0; i <= j; ++i) H[k++] += wj * J(i);
+    }
+    const float we = w * e;
+    for (int i = 0; i < N; ++i) b[i] += we * J(i);
+  }
+
+  /// Adds the block to `eq` (in double) and starts a new one.
+  void flushInto(NormalEquations<N>& eq) {
+    int k = 0;
+    for (int j = 0; j < N; ++j)
+      for (int i = 0; i <= j; ++i) eq.H(i, j) += static_cast<double>(H[k++]);
+    for (int i = 0; i < N; ++i) eq.b(i) += static_cast<double>(b[i]);
+    *this = BlockSums();
+  }
+};
+
 template <int N>
 NormalEquations<N> linearise(const HeightSampler& sampler, const std::vector<SelectedCell>& cells,
                              const Eigen::Isometry3d& T, double huber_delta, double max_residual) {
@@ -46,8 +74,7 @@ NormalEquations<N> linearise(const HeightSampler& sampler, const std::vector<Sel
   // so that the cost cannot drop by pushing cells out of view.
   const float outlier_cost = delta * (max_e - 0.5f * delta);
   // Accumulate in float over blocks of cells (fast), and the blocks in double (precise).
-  Eigen::Matrix<float, N, N> Hf = Eigen::Matrix<float, N, N>::Zero();
-  Eigen::Matrix<float, N, 1> bf = Eigen::Matrix<float, N, 1>::Zero();
+  BlockSums<N> block;
   int in_block = 0;
   int lost = 0;
   float e = 0.0f;
@@ -62,22 +89,17 @@ NormalEquations<N> linearise(const HeightSampler& sampler, const std::vector<Sel
     const float w = inner ? 1.0f : delta / ae;  // Huber
     eq.cost +=
         inner ? 0.5 * static_cast<double>(e * e) : static_cast<double>(delta * (ae - 0.5f * delta));
-    Hf.template selfadjointView<Eigen::Upper>().rankUpdate(J, w);
-    bf.noalias() += (w * e) * J;
+    block.add(J, w, e);
     eq.weighted_sq += static_cast<double>(w * e * e);
     eq.sq += static_cast<double>(e * e);
     ++eq.n;
     if (++in_block == 256) {
-      eq.H += Hf.template cast<double>();
-      eq.b += bf.template cast<double>();
-      Hf.setZero();
-      bf.setZero();
+      block.flushInto(eq);
       in_block = 0;
     }
   }
+  block.flushInto(eq);
   eq.cost += static_cast<double>(lost) * outlier_cost;
-  eq.H += Hf.template cast<double>();
-  eq.b += bf.template cast<double>();
   eq.H = eq.H.template selfadjointView<Eigen::Upper>();
   return eq;
 }
