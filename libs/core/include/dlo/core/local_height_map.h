@@ -20,7 +20,7 @@ namespace dlo {
 /// Why: a single sparse scan (VLP-16, HDL-32) measures the ground only along its laser rings,
 /// and the rings travel with the sensor. Registered against such a scan, the edges between
 /// ring cells and hole-filled cells match best at zero motion: simulated VLP-16 drives lost a
-/// quarter of their forward motion frame to frame. The rings of many scans (30 in dlo-slam),
+/// quarter of their forward motion frame to frame. The rings of many scans (15 in dlo-slam),
 /// each placed at its registered pose, cover the ground densely, so the reference holds no
 /// sensor-locked pattern.
 ///
