@@ -108,6 +108,20 @@ TEST(FuzzRegression, RawlogBoolFieldHoldingAnyByteIsReadWithoutUndefinedBehaviou
       << source.stats().error;
 }
 
+TEST(FuzzRegression, RawlogActionCollectionHoldingANonActionIsCorruptNotANullDereference) {
+  // An action collection whose first element is an mrpt::img::TCamera: MRPT's
+  // CActionCollection::serializeFrom clones the element as an action, a null pointer (SEGV).
+  const std::string path = regression("rawlog/action-collection-holding-a-camera.rawlog");
+  RawlogScanSource source(path);
+  TimedScan scan;
+  EXPECT_FALSE(source.next(scan));
+  const std::string& error = source.stats().error;
+  EXPECT_NE(error.find("corrupt at entry 0"), std::string::npos) << error;
+  EXPECT_NE(error.find("action collection holds TCamera where action 0 belongs"), std::string::npos)
+      << error;
+  EXPECT_NE(error.find(path), std::string::npos) << error;
+}
+
 TEST(FuzzRegression, PcapWithANonEthernetLinkTypeIsRejectedBeforeMrptFiltersIt) {
   // Link type 65535: MRPT's filter did not compile and it filtered with an uninitialised
   // program (SEGV in libpcap).

@@ -1,11 +1,14 @@
 #include "dlo/mrpt/rawlog_scan_source.h"
 
 #include <mrpt/maps/registerAllClasses.h>
+#include <mrpt/obs/CAction.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/obs/registerAllClasses.h>
 #include <mrpt/rtti/CObject.h>
+#include <algorithm>
 #include <fstream>
+#include <stdexcept>
 
 #include "dlo/mrpt/input_error.h"
 #include "dlo/mrpt/observation_to_scan.h"
@@ -13,6 +16,11 @@
 namespace dlo {
 
 namespace {
+
+/// How MRPT 2.5 serializes an object: a length byte with the high bit set, the class name, a
+/// version byte, the fields, and this end flag.
+constexpr uint8_t kSerializationEndFlag = 0x88;
+const std::string kActionCollectionClass = "mrpt::obs::CActionCollection";
 
 bool hasGzipMagic(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
@@ -47,31 +55,75 @@ RawlogScanSource::RawlogScanSource(const std::string& path, const ScanSourceOpti
   }
   gzipped_ = hasGzipMagic(path);
   if (!in_.open(path)) throw InputError("cannot open rawlog '" + path + "'.");
-  archive_ = mrpt::serialization::archiveUniquePtrFrom(in_);
+  archive_ = mrpt::serialization::archiveUniquePtrFrom(input_);
   if (!readEntry() && !stats_.error.empty() && !startsWithMrptObjectHeader(path)) {
     throw InputError("'" + path +
                      "' is not an MRPT rawlog: it does not start with a serialized MRPT object.");
   }
 }
 
+size_t RawlogScanSource::PeekableInput::Read(void* buffer, size_t count) {
+  const size_t served = std::min(count, peeked_.size());
+  std::copy_n(peeked_.data(), served, static_cast<char*>(buffer));
+  peeked_.erase(0, served);
+  return served +
+         (count > served ? in_.Read(static_cast<char*>(buffer) + served, count - served) : 0);
+}
+
+const std::string& RawlogScanSource::PeekableInput::peek(size_t count) {
+  if (peeked_.size() < count) {
+    const size_t had = peeked_.size();
+    peeked_.resize(count);
+    peeked_.resize(had + in_.Read(peeked_.data() + had, count - had));
+  }
+  return peeked_;
+}
+
+mrpt::serialization::CSerializable::Ptr RawlogScanSource::readActionCollection() {
+  auto fail = [](const std::string& why) {
+    throw std::runtime_error("an action collection " + why);
+  };
+  std::string header(1 + kActionCollectionClass.size(), '\0');
+  input_.Read(header.data(), header.size());
+  uint8_t version = 0;
+  uint32_t count = 0;
+  *archive_ >> version >> count;
+  if (version != 0) fail("has version " + std::to_string(version) + " (0 expected)");
+  for (uint32_t i = 0; i < count; ++i) {
+    const mrpt::serialization::CSerializable::Ptr element = archive_->ReadObject();
+    if (!std::dynamic_pointer_cast<mrpt::obs::CAction>(element)) {
+      fail("holds " + (element ? shortClassName(*element) : std::string("a null object")) +
+           " where action " + std::to_string(i) + " belongs");
+    }
+  }
+  uint8_t end = 0;
+  *archive_ >> end;
+  if (end != kSerializationEndFlag) fail("does not end with MRPT's end-of-object flag");
+  return std::make_shared<mrpt::obs::CActionCollection>();
+}
+
 bool RawlogScanSource::readEntry() {
   object_.reset();
   if (finished_) return false;
-  const uint64_t start = in_.getPosition();
+  const uint64_t start = input_.position();
   try {
-    object_ = archive_->ReadObject();
+    const std::string& next = input_.peek(1 + kActionCollectionClass.size());
+    const bool actions = next.size() == 1 + kActionCollectionClass.size() &&
+                         static_cast<uint8_t>(next[0]) == (0x80 | kActionCollectionClass.size()) &&
+                         next.compare(1, std::string::npos, kActionCollectionClass) == 0;
+    object_ = actions ? readActionCollection() : archive_->ReadObject();
     object_index_ = stats_.entries_read++;
     return true;
   } catch (const std::exception& e) {
     finished_ = true;
-    const uint64_t now = in_.getPosition();
+    const uint64_t now = input_.position();
     // Nothing consumed and at the end: the file ended cleanly between two entries.
-    if (now == start && in_.checkEOF()) return false;
+    if (now == start && input_.atEnd()) return false;
     const std::string offset =
         "byte offset " + std::to_string(start) + (gzipped_ ? " of the decompressed stream" : "");
     stats_.error = "rawlog '" + path_ + "' is corrupt at entry " +
                    std::to_string(stats_.entries_read) + " (" + offset + "): " +
-                   (in_.checkEOF() ? std::string("the file ends inside that entry (truncated)")
+                   (input_.atEnd() ? std::string("the file ends inside that entry (truncated)")
                                    : "it could not be read (" + oneLineMessage(e) + ")") +
                    "; the " + std::to_string(stats_.entries_read) + " entries before it were read.";
     return false;

@@ -44,8 +44,32 @@ class RawlogScanSource : public ScanSource {
   mrpt::obs::CObservation::Ptr nextObservation();
 
  private:
+  /// The decompressed rawlog with a look-ahead: readEntry() peeks at the class name of the next
+  /// entry before MRPT deserializes it.
+  class PeekableInput {
+   public:
+    explicit PeekableInput(mrpt::io::CFileGZInputStream& in) : in_(in) {}
+    /// CArchiveStreamBase's interface: bytes peeked are served first.
+    size_t Read(void* buffer, size_t count);
+    size_t Write(const void*, size_t) { return 0; }
+    std::string getStreamDescription() const { return in_.getStreamDescription(); }
+    /// The next `count` bytes (fewer at the end of the file), left to be read again.
+    const std::string& peek(size_t count);
+    /// Decompressed bytes consumed so far.
+    uint64_t position() { return in_.getPosition() - peeked_.size(); }
+    bool atEnd() { return peeked_.empty() && in_.checkEOF(); }
+
+   private:
+    mrpt::io::CFileGZInputStream& in_;
+    std::string peeked_;
+  };
+
   /// Reads the next serialized object into `object_`. \return false at the end or on error.
   bool readEntry();
+  /// Reads an mrpt::obs::CActionCollection entry without MRPT's CActionCollection::serializeFrom,
+  /// which dereferences a null pointer when an element is not an action (found by fuzzing).
+  /// The actions are read and checked, then dropped: scans do not use them.
+  mrpt::serialization::CSerializable::Ptr readActionCollection();
   /// Queues the observations of the entry just read (none for an action or unknown object).
   void queueObservations();
 
@@ -53,6 +77,7 @@ class RawlogScanSource : public ScanSource {
   ScanSourceOptions options_;
   bool gzipped_ = false;
   mrpt::io::CFileGZInputStream in_;
+  PeekableInput input_{in_};
   std::unique_ptr<mrpt::serialization::CArchive> archive_;
   mrpt::serialization::CSerializable::Ptr object_;
   size_t object_index_ = 0;  ///< Entry index of object_.
