@@ -26,12 +26,6 @@ void expectIdentical(const WeightedCloud& a, const WeightedCloud& b) {
   }
 }
 
-WeightedCloud unitWeights(const PointCloud& points) {
-  WeightedCloud out;
-  for (const Eigen::Vector3f& p : points) out.push_back(WeightedPoint{p, 1u});
-  return out;
-}
-
 TEST(Voxelise, VoxelsComeInTheOrderOfTheirFirstPointWithCentroidsAndCounts) {
   // Voxels of 1 m: (2, 0, 0) first, then (-1, 0, 0) (floor, not truncation), then (0, 0, 0).
   const PointCloud points = {{2.5f, 0.5f, 0.5f},  {-0.5f, 0.5f, 0.5f},  {0.25f, 0.5f, 0.5f},

@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <iterator>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -34,32 +35,41 @@ struct NormalEquations {
   int n = 0;                 ///< inlier residuals
 };
 
-/// Float sums of H (its upper triangle, column by column) and b over a block of cells. The
-/// products are Eigen's rankUpdate(J, w) and (w e) J, in the same order, without the call.
+/// H (its upper triangle, column by column) and b summed in float over blocks of 256 cells (fast),
+/// and the blocks in double into `eq` (precise). The products are Eigen's rankUpdate(J, w) and
+/// (w e) J, in the same order, without the call.
 template <int N>
-struct BlockSums {
-  static constexpr int kUpper = N * (N + 1) / 2;
-  float H[kUpper] = {};
-  float b[N] = {};
+class BlockSums {
+ public:
+  explicit BlockSums(NormalEquations<N>& eq) : eq_(eq) {}
 
   void add(const Eigen::Matrix<float, N, 1>& J, float w, float e) {
     int k = 0;
     for (int j = 0; j < N; ++j) {
       const float wj = w * J(j);
-      for (int i = 0; i <= j; ++i) H[k++] += wj * J(i);
+      for (int i = 0; i <= j; ++i) H_[k++] += wj * J(i);
     }
     const float we = w * e;
-    for (int i = 0; i < N; ++i) b[i] += we * J(i);
+    for (int i = 0; i < N; ++i) b_[i] += we * J(i);
+    if (++cells_ == 256) flush();
   }
 
-  /// Adds the block to `eq` (in double) and starts a new one.
-  void flushInto(NormalEquations<N>& eq) {
+  /// Adds the current block to the equations and starts a new one.
+  void flush() {
     int k = 0;
     for (int j = 0; j < N; ++j)
-      for (int i = 0; i <= j; ++i) eq.H(i, j) += static_cast<double>(H[k++]);
-    for (int i = 0; i < N; ++i) eq.b(i) += static_cast<double>(b[i]);
-    *this = BlockSums();
+      for (int i = 0; i <= j; ++i) eq_.H(i, j) += static_cast<double>(H_[k++]);
+    for (int i = 0; i < N; ++i) eq_.b(i) += static_cast<double>(b_[i]);
+    std::fill(std::begin(H_), std::end(H_), 0.0f);
+    std::fill(std::begin(b_), std::end(b_), 0.0f);
+    cells_ = 0;
   }
+
+ private:
+  NormalEquations<N>& eq_;
+  float H_[N * (N + 1) / 2] = {};
+  float b_[N] = {};
+  int cells_ = 0;
 };
 
 template <int N>
@@ -73,9 +83,7 @@ NormalEquations<N> linearise(const HeightSampler& sampler, const std::vector<Sel
   // A cell that leaves the reference or becomes an outlier pays the cost of the largest inlier,
   // so that the cost cannot drop by pushing cells out of view.
   const float outlier_cost = delta * (max_e - 0.5f * delta);
-  // Accumulate in float over blocks of cells (fast), and the blocks in double (precise).
-  BlockSums<N> block;
-  int in_block = 0;
+  BlockSums<N> block(eq);
   int lost = 0;
   float e = 0.0f;
   Eigen::Matrix<float, N, 1> J;
@@ -93,12 +101,8 @@ NormalEquations<N> linearise(const HeightSampler& sampler, const std::vector<Sel
     eq.weighted_sq += static_cast<double>(w * e * e);
     eq.sq += static_cast<double>(e * e);
     ++eq.n;
-    if (++in_block == 256) {
-      block.flushInto(eq);
-      in_block = 0;
-    }
   }
-  block.flushInto(eq);
+  block.flush();
   eq.cost += static_cast<double>(lost) * outlier_cost;
   eq.H = eq.H.template selfadjointView<Eigen::Upper>();
   return eq;

@@ -141,6 +141,12 @@ WeightedCloud VoxelMerger::result() const {
   return acc_->result();
 }
 
+WeightedCloud unitWeights(const PointCloud& points) {
+  WeightedCloud out(points.size());
+  for (size_t i = 0; i < points.size(); ++i) out[i] = WeightedPoint{points[i], 1u};
+  return out;
+}
+
 WeightedCloud transformed(const WeightedCloud& cloud, const Eigen::Isometry3d& pose) {
   const Eigen::Isometry3f T = pose.cast<float>();
   WeightedCloud out(cloud.size());

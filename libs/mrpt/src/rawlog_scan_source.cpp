@@ -20,7 +20,15 @@ namespace {
 /// How MRPT 2.5 serializes an object: a length byte with the high bit set, the class name, a
 /// version byte, the fields, and this end flag.
 constexpr uint8_t kSerializationEndFlag = 0x88;
-const std::string kActionCollectionClass = "mrpt::obs::CActionCollection";
+
+/// The bytes an mrpt::obs::CActionCollection entry starts with (length byte and class name).
+const std::string& actionCollectionHeader() {
+  static const std::string header = [] {
+    const std::string name = "mrpt::obs::CActionCollection";
+    return std::string(1, static_cast<char>(0x80 | name.size())) + name;
+  }();
+  return header;
+}
 
 bool hasGzipMagic(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
@@ -83,8 +91,8 @@ mrpt::serialization::CSerializable::Ptr RawlogScanSource::readActionCollection()
   auto fail = [](const std::string& why) {
     throw std::runtime_error("an action collection " + why);
   };
-  std::string header(1 + kActionCollectionClass.size(), '\0');
-  input_.Read(header.data(), header.size());
+  std::string header(actionCollectionHeader().size(), '\0');
+  input_.Read(header.data(), header.size());  // what readEntry() peeked at
   uint8_t version = 0;
   uint32_t count = 0;
   *archive_ >> version >> count;
@@ -107,10 +115,7 @@ bool RawlogScanSource::readEntry() {
   if (finished_) return false;
   const uint64_t start = input_.position();
   try {
-    const std::string& next = input_.peek(1 + kActionCollectionClass.size());
-    const bool actions = next.size() == 1 + kActionCollectionClass.size() &&
-                         static_cast<uint8_t>(next[0]) == (0x80 | kActionCollectionClass.size()) &&
-                         next.compare(1, std::string::npos, kActionCollectionClass) == 0;
+    const bool actions = input_.peek(actionCollectionHeader().size()) == actionCollectionHeader();
     object_ = actions ? readActionCollection() : archive_->ReadObject();
     object_index_ = stats_.entries_read++;
     return true;

@@ -236,8 +236,7 @@ void LidarOdometry::decimate(const PointCloud& points, WeightedCloud& fine,
     }
     // No decimation: at 0.05 m an HDL-64 sweep keeps 100k of its 129k points, and hashing them
     // cost more than the rest of a keyframe; rasterising the 30% more points costs less.
-    fine.resize(near.size());
-    for (size_t i = 0; i < near.size(); ++i) fine[i] = WeightedPoint{near[i], 1u};
+    fine = unitWeights(near);
   }
   coarse = voxelise(near, o.map_voxel);
 }

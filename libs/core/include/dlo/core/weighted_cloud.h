@@ -61,6 +61,9 @@ class VoxelMerger {
   float inv_voxel_;
 };
 
+/// Every point as a voxel of its own (weight 1): a cloud kept whole where a weighted one is read.
+WeightedCloud unitWeights(const PointCloud& points);
+
 /// Applies a rigid transform to every centroid.
 WeightedCloud transformed(const WeightedCloud& cloud, const Eigen::Isometry3d& pose);
 
