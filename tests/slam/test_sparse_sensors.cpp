@@ -36,14 +36,15 @@ Drive simulate(const std::string& sensor, int seed) {
 }
 
 /// Odometry ATE (before loop closure) of the pipeline over the drive.
-double odometryAte(const Drive& d, const SlamParams& params, bool& sparse, double& resolution) {
+/// `used` receives the registration parameters the odometry ended with.
+double odometryAte(const Drive& d, const SlamParams& params, bool& sparse, DloParams& used) {
   SlamPipeline slam(params);
   RawlogScanSource source((d.dir / "sequence.rawlog").string());
   TimedScan scan;
   while (source.next(scan)) slam.process(scan.timestampSeconds(), scan.points, scan.point_times);
   EXPECT_TRUE(source.stats().error.empty()) << source.stats().error;
   sparse = slam.sparseSensor();
-  resolution = slam.params().registration.grid.resolution;
+  used = slam.params().registration;
   const SlamAccuracy a = evaluateAgainst(slam.map(), d.truth);
   EXPECT_EQ(a.matched, 120u);
   return a.ate_rmse_before;
@@ -52,10 +53,13 @@ double odometryAte(const Drive& d, const SlamParams& params, bool& sparse, doubl
 void checkSparseDrive(const std::string& sensor, int seed) {
   const Drive d = simulate(sensor, seed);
   bool sparse = false;
-  double resolution = 0.0;
-  const double ate = odometryAte(d, SlamParams(), sparse, resolution);
+  DloParams used;
+  const double ate = odometryAte(d, SlamParams(), sparse, used);
   EXPECT_TRUE(sparse);
-  EXPECT_DOUBLE_EQ(resolution, SlamParams().odometry.sparse_resolution);
+  EXPECT_DOUBLE_EQ(used.grid.resolution, SlamParams().odometry.sparse_resolution);
+  // Sparse scans keep their coarse levels converging as tightly as the finest.
+  EXPECT_NE(SlamParams().registration.solver.coarse_step, 0.0);
+  EXPECT_EQ(used.solver.coarse_step, SlamParams().odometry.sparse_coarse_step);
   EXPECT_LT(ate, 0.6);
 
   // The dense sensor's grid and the keyframe map as the reference, the defaults before the
@@ -63,8 +67,9 @@ void checkSparseDrive(const std::string& sensor, int seed) {
   SlamParams dense;
   dense.odometry.sparse_scan_points = 0;
   dense.odometry.reference = 2;
-  const double dense_ate = odometryAte(d, dense, sparse, resolution);
+  const double dense_ate = odometryAte(d, dense, sparse, used);
   EXPECT_FALSE(sparse);
+  EXPECT_EQ(used.solver.coarse_step, dense.registration.solver.coarse_step);
   EXPECT_GT(dense_ate, 2.0 * ate);
   std::printf("%s seed %d: ATE %.3f m (sparse defaults), %.3f m (dense grid, keyframe map)\n",
               sensor.c_str(), seed, ate, dense_ate);
@@ -82,10 +87,11 @@ TEST(SparseSensors, AnHdl32DriveIsRegisteredWithTheDefaults) {
 TEST(SparseSensors, AnHdl64DriveKeepsTheGridOfTheConfiguration) {
   const Drive d = simulate("HDL64", 2);
   bool sparse = true;
-  double resolution = 0.0;
-  const double ate = odometryAte(d, SlamParams(), sparse, resolution);
+  DloParams used;
+  const double ate = odometryAte(d, SlamParams(), sparse, used);
   EXPECT_FALSE(sparse);
-  EXPECT_DOUBLE_EQ(resolution, SlamParams().registration.grid.resolution);
+  EXPECT_DOUBLE_EQ(used.grid.resolution, SlamParams().registration.grid.resolution);
+  EXPECT_EQ(used.solver.coarse_step, SlamParams().registration.solver.coarse_step);
   EXPECT_LT(ate, 0.3);
   if (!std::getenv("DLO_KEEP_TEST_OUTPUT")) fs::remove_all(d.dir);
 }

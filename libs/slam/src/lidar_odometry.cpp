@@ -288,6 +288,9 @@ void LidarOdometry::adaptToSensor(size_t points) {
   g.resolution = o.sparse_resolution;
   g.cols = g.rows = o.sparse_cells;
   params_.odometry.reference = o.sparse_reference;
+  // Sparse scans need the coarse levels converged tightly (README, solver.coarse_step).
+  params_.registration.solver.coarse_step = o.sparse_coarse_step;
+  aligner_ = DirectAligner(params_.registration.solver);
   scan_map_.reset();  // made on first use, with this grid
   sparse_sensor_ = true;
 }

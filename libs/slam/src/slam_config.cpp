@@ -33,6 +33,9 @@ std::vector<ParamField<SlamParams>> fields() {
                  "cells per side of a sparse sensor's grid"),
       paramField("odometry", "sparse_reference", &S::odometry, &O::sparse_reference,
                  "reference (as odometry.reference) for a sparse sensor: 3, the scan map"),
+      paramField("odometry", "sparse_coarse_step", &S::odometry, &O::sparse_coarse_step,
+                 "solver.coarse_step for a sparse sensor: 0, coarse levels converge as "
+                 "tightly as the finest"),
       paramField("odometry", "max_prior_deviation", &S::odometry, &O::max_prior_deviation,
                  "metres; a registration farther than this from the constant-velocity "
                  "prediction (rotations counted at solver.rotation_scale) is rejected, the "

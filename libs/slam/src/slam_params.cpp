@@ -20,6 +20,9 @@ std::string SlamParams::validate() const {
     return outOfRange("odometry.sparse_resolution", o.sparse_resolution, "(0, 5] metres");
   if (o.sparse_reference < 0 || o.sparse_reference > 3)
     return outOfRange("odometry.sparse_reference", o.sparse_reference, "0..3 (as reference)");
+  if (!(o.sparse_coarse_step >= 0.0 && o.sparse_coarse_step <= 0.5))
+    return outOfRange("odometry.sparse_coarse_step", o.sparse_coarse_step,
+                      "[0, 0.5] (as solver.coarse_step)");
   if (o.sparse_cells < 16 || o.sparse_cells > 4000)
     return outOfRange("odometry.sparse_cells", o.sparse_cells, "16..4000");
   if (!(o.max_prior_deviation >= 0.0))
