@@ -8,10 +8,10 @@
 #include <cstring>
 #include <sstream>
 
-#include "dlo/slam/process_memory.h"
 #include "dlo/core/stage_times.h"
 #include "dlo/mrpt/progress_bar.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
+#include "dlo/slam/process_memory.h"
 
 namespace dlo::bench {
 
