@@ -62,22 +62,43 @@ std::vector<int> LoopCloser::candidates(const SlamMap& map, int newest,
 }
 
 LoopCandidate LoopCloser::verify(const SlamMap& map, int from_id, int to_id,
-                                 const Eigen::Isometry3d& guess, PoseEdge& edge) const {
-  const LoopParams& l = params_.loop;
+                                 const Eigen::Isometry3d& guess, PoseEdge& edge,
+                                 LoopSearch search) const {
   LoopCandidate c;
   c.from = from_id;
   c.to = to_id;
+  c.tracked = search == LoopSearch::kFromGuess;
   WeightedCloud from_buffer, to_buffer;
   const WeightedCloud& from_cloud = map.keyframeCloud(static_cast<size_t>(from_id), from_buffer);
   const WeightedCloud& to_cloud = map.keyframeCloud(static_cast<size_t>(to_id), to_buffer);
   const bool ground = grid_.includeGround();
-  HeightFrame ref, cur, ref_coarse, cur_coarse;
+  HeightFrame ref, cur;
   ref.build(from_cloud, Eigen::Isometry3d::Identity(), grid_.grid, grid_.selection, ground);
   cur.build(to_cloud, Eigen::Isometry3d::Identity(), grid_.grid, grid_.selection, ground);
   if (ref.empty() || cur.empty()) {
     c.reason = "empty keyframe cloud";
     return c;
   }
+  const DirectAligner aligner(grid_.solver);
+  const double selected = static_cast<double>(cur.levels().front().cells.size());
+  std::vector<AlignmentResult> refined;
+  if (c.tracked) {
+    refined.push_back(aligner.align(ref, cur, guess));
+  } else if (!searchBasins(from_cloud, to_cloud, guess, ref, cur, aligner, refined)) {
+    c.reason = "no start of the coarse search overlaps";
+    return c;
+  }
+  judge(refined, selected, guess, c, edge);
+  return c;
+}
+
+bool LoopCloser::searchBasins(const WeightedCloud& from_cloud, const WeightedCloud& to_cloud,
+                              const Eigen::Isometry3d& guess, const HeightFrame& ref,
+                              const HeightFrame& cur, const DirectAligner& aligner,
+                              std::vector<AlignmentResult>& refined) const {
+  const LoopParams& l = params_.loop;
+  const bool ground = grid_.includeGround();
+  HeightFrame ref_coarse, cur_coarse;
   // Drift puts the guess metres and degrees off, beyond the basin of one registration: search
   // a lattice of starts on a coarse grid first, and keep the best-fitting basin.
   DloParams coarse = grid_;
@@ -112,19 +133,20 @@ LoopCandidate LoopCloser::verify(const SlamMap& map, int from_id, int to_id,
       }
     }
   }
-  if (basins.empty()) {
-    c.reason = "no start of the coarse search overlaps";
-    return c;
-  }
-  // Refine the most promising basins at full resolution and keep the best fit.
+  if (basins.empty()) return false;
+  // Refine the most promising basins at full resolution.
   std::sort(basins.begin(), basins.end(),
             [](const Basin& a, const Basin& b) { return a.rms < b.rms; });
-  const DirectAligner aligner(grid_.solver);
-  const double selected = static_cast<double>(cur.levels().front().cells.size());
-  std::vector<AlignmentResult> refined;
   for (size_t i = 0; i < basins.size() && i < kRefinedBasins; ++i) {
     refined.push_back(aligner.align(ref, cur, basins[i].pose));
   }
+  return true;
+}
+
+void LoopCloser::judge(const std::vector<AlignmentResult>& refined, double selected,
+                       const Eigen::Isometry3d& guess, LoopCandidate& c, PoseEdge& edge) const {
+  const LoopParams& l = params_.loop;
+  // Keep the best fit.
   const auto fit = [&](const AlignmentResult& r) {
     const double inliers = selected > 0 ? r.cells / selected : 0.0;
     return inliers >= l.min_inliers ? r.rms_height_error : std::numeric_limits<double>::infinity();
@@ -141,7 +163,7 @@ LoopCandidate LoopCloser::verify(const SlamMap& map, int from_id, int to_id,
     if (elsewhere && fit(other) < fit(*best) * kAmbiguityRatio) {
       c.reason = describe("ambiguous: a pose this far (m) fits nearly as well",
                           d.translation().norm(), kDistinctBasin);
-      return c;
+      return;
     }
   }
   const AlignmentResult r = *best;
@@ -156,19 +178,27 @@ LoopCandidate LoopCloser::verify(const SlamMap& map, int from_id, int to_id,
     c.reason = describe("inlier fraction", inliers, l.min_inliers);
   } else if (c.correction > l.max_correction) {
     c.reason = describe("correction (m)", c.correction, l.max_correction);
+  } else if (c.tracked && c.correction > kDistinctBasin) {
+    // The guess should have been good: a registration that moved this far may have slipped
+    // into another basin, which only the lattice search can tell.
+    c.reason = describe("correction from a tracked guess (m)", c.correction, kDistinctBasin);
+  } else if (c.tracked &&
+             Eigen::AngleAxisd((guess.inverse() * r.pose).linear()).angle() > kDistinctBasinAngle) {
+    c.reason = describe("rotation from a tracked guess (deg)",
+                        Eigen::AngleAxisd((guess.inverse() * r.pose).linear()).angle() / kDeg,
+                        kDistinctBasinAngle / kDeg);
   } else {
     c.accepted = true;
     c.reason = "accepted";
   }
   if (c.accepted) {
-    edge.from = from_id;
-    edge.to = to_id;
+    edge.from = c.from;
+    edge.to = c.to;
     edge.relative = r.pose;
     edge.information =
         edgeInformation(r.pose, r.covariance, l.min_sigma_xy, l.min_sigma_angle * kDeg);
     edge.loop = true;
   }
-  return c;
 }
 
 }  // namespace dlo

@@ -1,6 +1,7 @@
 #include "dlo/slam/slam_pipeline.h"
 
 #include <cmath>
+#include <cstdlib>
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
@@ -15,6 +16,9 @@ constexpr double kDeg = M_PI / 180.0;
 /// Keyframes to wait after an accepted loop before looking again: consecutive keyframes would
 /// mostly re-add the same constraint.
 constexpr int kLoopCooldown = 3;
+/// A candidate within this many keyframes of the last accepted loop, on both of its sides, is
+/// the same revisit going on: it is verified from its guess first (LoopSearch::kFromGuess).
+constexpr int kTrackedSpan = 2 * kLoopCooldown;
 }  // namespace
 
 SlamPipeline::SlamPipeline(const SlamParams& params)
@@ -143,19 +147,28 @@ void SlamPipeline::searchLoops(int newest) {
     const int from = candidates[i];
     const Eigen::Isometry3d guess =
         map_.keyframes[from].pose.inverse() * map_.keyframes[newest].pose;
-    if (tryLoop(from, newest, guess).accepted) {
+    // The revisit whose last loop was accepted (and corrected the graph) goes on: the guess is
+    // good, and one registration from it costs a tenth of the lattice search. If it does not
+    // pass, the lattice search decides.
+    const bool tracked = newest - last_loop_keyframe_ <= kTrackedSpan &&
+                         std::abs(from - last_loop_from_) <= kTrackedSpan;
+    if ((tracked && tryLoop(from, newest, guess, LoopSearch::kFromGuess).accepted) ||
+        tryLoop(from, newest, guess).accepted) {
       last_loop_keyframe_ = newest;
+      last_loop_from_ = from;
       break;
     }
   }
 }
 
-LoopCandidate SlamPipeline::tryLoop(int from, int to, const Eigen::Isometry3d& guess) {
+LoopCandidate SlamPipeline::tryLoop(int from, int to, const Eigen::Isometry3d& guess,
+                                    LoopSearch search) {
   PoseEdge edge;
-  LoopCandidate c = loops_.verify(map_, from, to, guess, edge);
+  LoopCandidate c = loops_.verify(map_, from, to, guess, edge, search);
   map_.loop_candidates.push_back(c);
   if (c.accepted) {
     ++counters_.loops_accepted;
+    if (c.tracked) ++counters_.loops_tracked;
     map_.edges.push_back(edge);
     // A loop the graph already satisfies (within twice the edges' standard-deviation floors)
     // would not move it: its edge is kept for the next optimisation, which then runs only when a
@@ -172,6 +185,8 @@ LoopCandidate SlamPipeline::tryLoop(int from, int to, const Eigen::Isometry3d& g
     } else {
       optimise();
     }
+  } else if (search == LoopSearch::kFromGuess) {
+    ++counters_.loops_untracked;  // not a rejection: the lattice search follows
   } else {
     ++counters_.loops_rejected;
   }

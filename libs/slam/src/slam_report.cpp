@@ -115,7 +115,8 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
     << "},\n";
   o << "  \"loop_closures\": {\"accepted\": " << c.loops_accepted
     << ", \"rejected\": " << c.loops_rejected << ", \"optimisations\": " << c.optimisations
-    << ", \"already_consistent\": " << c.loops_consistent << "},\n";
+    << ", \"already_consistent\": " << c.loops_consistent << ", \"tracked\": " << c.loops_tracked
+    << ", \"tracked_then_searched\": " << c.loops_untracked << "},\n";
   // The verdict on every candidate (capped), so that a user can see why a loop did not close.
   constexpr size_t kMaxCandidates = 500;
   o << "  \"loop_candidates\": [";
@@ -123,7 +124,8 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
     const LoopCandidate& l = map.loop_candidates[i];
     o << (i ? ",\n    " : "\n    ") << "{\"from\": " << l.from << ", \"to\": " << l.to
       << ", \"accepted\": " << (l.accepted ? "true" : "false")
-      << ", \"reason\": " << quoted(l.reason) << "}";
+      << ", \"tracked\": " << (l.tracked ? "true" : "false") << ", \"reason\": " << quoted(l.reason)
+      << "}";
   }
   o << "],\n";
   o << "  \"degenerate_frames\": " << c.degenerate_frames << ",\n";

@@ -10,6 +10,18 @@
 
 namespace dlo {
 
+/// How a loop candidate's basin is found.
+enum class LoopSearch {
+  /// A lattice of starts (+-4 m, +-12 deg) on a coarse grid, the best basins refined at full
+  /// resolution, and a candidate refused when another basin fits nearly as well: for a first
+  /// loop, whose guess carries all the drift since the place was last seen.
+  kLattice,
+  /// One registration at full resolution from the guess, accepted only if it stays within
+  /// 1.5 m of it: for the next keyframes of a revisit whose first loop passed the lattice
+  /// search and corrected the graph, so that their guesses are good (about a tenth of the cost).
+  kFromGuess,
+};
+
 /// Finds and verifies loops. A candidate is an older keyframe near the newest one's estimate but
 /// far back along the path; it is accepted only if registering the two keyframes' clouds gives
 /// a well-conditioned, low-residual, consistent answer, so that a wrong loop is rejected rather
@@ -27,9 +39,19 @@ class LoopCloser {
   /// its spill file if they left memory), starting at `guess` (pose of `to` in `from`), and
   /// checks the result. On acceptance `edge` holds the loop edge.
   LoopCandidate verify(const SlamMap& map, int from, int to, const Eigen::Isometry3d& guess,
-                       PoseEdge& edge) const;
+                       PoseEdge& edge, LoopSearch search = LoopSearch::kLattice) const;
 
  private:
+  /// The lattice search of LoopSearch::kLattice: fills `refined` with the best basins refined at
+  /// full resolution. \return false if no start overlapped.
+  bool searchBasins(const WeightedCloud& from_cloud, const WeightedCloud& to_cloud,
+                    const Eigen::Isometry3d& guess, const HeightFrame& ref, const HeightFrame& cur,
+                    const DirectAligner& aligner, std::vector<AlignmentResult>& refined) const;
+  /// The checks on the refined registrations (best fit, ambiguity, RMS, inliers, correction);
+  /// fills `c` (whose from, to and tracked are set) and, on acceptance, `edge`.
+  void judge(const std::vector<AlignmentResult>& refined, double selected,
+             const Eigen::Isometry3d& guess, LoopCandidate& c, PoseEdge& edge) const;
+
   SlamParams params_;
   DloParams grid_;  ///< the registration parameters at the verification resolution
 };

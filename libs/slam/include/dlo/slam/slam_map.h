@@ -62,6 +62,8 @@ struct LoopCandidate {
   std::string reason;  ///< why it was rejected, or "accepted"
   double rms_height_error = 0.0;
   double correction = 0.0;  ///< metres between the guess and the verified pose
+  /// Verified from the guess alone (LoopSearch::kFromGuess), not by the coarse search.
+  bool tracked = false;
 };
 
 /// The state of a SLAM run; what the exporters write.

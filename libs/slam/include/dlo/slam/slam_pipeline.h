@@ -33,6 +33,10 @@ struct PipelineCounters {
   size_t optimisations = 0;
   /// accepted loops the graph already satisfied: edge added, no optimisation needed
   size_t loops_consistent = 0;
+  /// accepted loops verified from the guess alone (LoopSearch::kFromGuess)
+  size_t loops_tracked = 0;
+  /// verifications from the guess that did not pass, each followed by the lattice search
+  size_t loops_untracked = 0;
 };
 
 /// Resident memory at one point of a run, to show that it does not grow with the scans.
@@ -78,7 +82,8 @@ class SlamPipeline {
 
   /// Verifies one loop candidate between two existing keyframes with the given guess (pose of
   /// `to` in `from`) and, if accepted, adds the edge and optimises. Exposed for tests and tools.
-  LoopCandidate tryLoop(int from, int to, const Eigen::Isometry3d& guess);
+  LoopCandidate tryLoop(int from, int to, const Eigen::Isometry3d& guess,
+                        LoopSearch search = LoopSearch::kLattice);
 
  private:
   void addKeyframe(double time, const OdometryStep& step);
@@ -97,7 +102,8 @@ class SlamPipeline {
   std::vector<Eigen::Isometry3d> kf_odometry_;  ///< odometry-frame pose of each keyframe
   Eigen::Isometry3d last_odometry_ = Eigen::Isometry3d::Identity();
   double travelled_ = 0.0;
-  int last_loop_keyframe_ = -1000;
+  int last_loop_keyframe_ = -1000;  ///< newest keyframe of the last accepted loop
+  int last_loop_from_ = -1000;      ///< its older keyframe
 };
 
 }  // namespace dlo
