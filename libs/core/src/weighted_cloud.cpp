@@ -38,6 +38,9 @@ class detail::VoxelHash {
     sums_.reserve(expected);
   }
 
+  /// Asks for the cache line of `key`'s home slot, for an add() a few points later.
+  void prefetch(std::uint64_t key) const { __builtin_prefetch(slots_.data() + slotOf(key)); }
+
   void add(std::uint64_t key, const Eigen::Vector3f& sum, std::uint32_t n) {
     size_t i = slotOf(key);
     for (;;) {
@@ -100,12 +103,38 @@ class detail::VoxelHash {
 namespace {
 using VoxelAccumulator = detail::VoxelHash;
 
+/// Adds points to an accumulator (empty and non-finite ones skipped) in batches: the keys
+/// first, each home slot prefetched, then the adds. A lookup is a cache miss in a table of
+/// megabytes, and the misses of a batch then overlap (0.1 m voxelisation of a 117k-point sweep
+/// 2.59 -> 2.07 ms).
+template <typename Point, typename Position, typename Weight>
+void addBatched(VoxelAccumulator& acc, const std::vector<Point>& points, float inv,
+                Position position, Weight weight) {
+  constexpr size_t kBatch = 16;
+  std::uint64_t keys[kBatch];
+  bool used[kBatch];
+  for (size_t first = 0; first < points.size(); first += kBatch) {
+    const size_t n = std::min(kBatch, points.size() - first);
+    for (size_t k = 0; k < n; ++k) {
+      const Point& q = points[first + k];
+      used[k] = weight(q) != 0 && position(q).allFinite();
+      if (!used[k]) continue;
+      keys[k] = voxelKey(position(q), inv);
+      acc.prefetch(keys[k]);
+    }
+    for (size_t k = 0; k < n; ++k) {
+      const Point& q = points[first + k];
+      // A weight of 1 multiplies exactly: raw points are summed as they are.
+      if (used[k]) acc.add(keys[k], position(q) * static_cast<float>(weight(q)), weight(q));
+    }
+  }
+}
+
 /// Adds a weighted cloud to an accumulator (empty and non-finite points skipped).
 void addWeighted(VoxelAccumulator& acc, const WeightedCloud& points, float inv) {
-  for (const WeightedPoint& w : points) {
-    if (w.n == 0 || !w.p.allFinite()) continue;
-    acc.add(voxelKey(w.p, inv), w.p * static_cast<float>(w.n), w.n);
-  }
+  addBatched(
+      acc, points, inv, [](const WeightedPoint& w) -> const Eigen::Vector3f& { return w.p; },
+      [](const WeightedPoint& w) { return w.n; });
 }
 }  // namespace
 
@@ -114,10 +143,9 @@ WeightedCloud voxelise(const PointCloud& points, double voxel) {
   // Sized for every point its own voxel: growing the table (at half full) rehashed tens of
   // thousands of voxels; a keyframe of 117k points keeps 91k voxels at 0.05 m.
   VoxelAccumulator acc(points.size() + 16);
-  for (const Eigen::Vector3f& p : points) {
-    if (!p.allFinite()) continue;
-    acc.add(voxelKey(p, inv), p, 1u);
-  }
+  addBatched(
+      acc, points, inv, [](const Eigen::Vector3f& p) -> const Eigen::Vector3f& { return p; },
+      [](const Eigen::Vector3f&) { return std::uint32_t{1}; });
   return acc.result();
 }
 
