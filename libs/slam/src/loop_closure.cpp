@@ -71,6 +71,23 @@ LoopCandidate LoopCloser::verify(const SlamMap& map, int from_id, int to_id,
   WeightedCloud from_buffer, to_buffer;
   const WeightedCloud& from_cloud = map.keyframeCloud(static_cast<size_t>(from_id), from_buffer);
   const WeightedCloud& to_cloud = map.keyframeCloud(static_cast<size_t>(to_id), to_buffer);
+  if (from_cloud.empty() || to_cloud.empty()) {
+    c.reason = "empty keyframe cloud";
+    return c;
+  }
+  // The coarse search first: most candidates of a drive end there, and then the verification
+  // grids (several levels and their gradient fields, the larger part of a rejection's cost
+  // before) are not built at all.
+  std::vector<Eigen::Isometry3d> starts;
+  if (c.tracked) {
+    starts.push_back(guess);
+  } else {
+    starts = searchBasins(from_cloud, to_cloud, guess);
+    if (starts.empty()) {
+      c.reason = "no start of the coarse search overlaps";
+      return c;
+    }
+  }
   const bool ground = grid_.includeGround();
   HeightFrame ref, cur;
   ref.build(from_cloud, Eigen::Isometry3d::Identity(), grid_.grid, grid_.selection, ground);
@@ -82,20 +99,14 @@ LoopCandidate LoopCloser::verify(const SlamMap& map, int from_id, int to_id,
   const DirectAligner aligner(grid_.solver);
   const double selected = static_cast<double>(cur.levels().front().cells.size());
   std::vector<AlignmentResult> refined;
-  if (c.tracked) {
-    refined.push_back(aligner.align(ref, cur, guess));
-  } else if (!searchBasins(from_cloud, to_cloud, guess, ref, cur, aligner, refined)) {
-    c.reason = "no start of the coarse search overlaps";
-    return c;
-  }
+  for (const Eigen::Isometry3d& start : starts) refined.push_back(aligner.align(ref, cur, start));
   judge(refined, selected, guess, c, edge);
   return c;
 }
 
-bool LoopCloser::searchBasins(const WeightedCloud& from_cloud, const WeightedCloud& to_cloud,
-                              const Eigen::Isometry3d& guess, const HeightFrame& ref,
-                              const HeightFrame& cur, const DirectAligner& aligner,
-                              std::vector<AlignmentResult>& refined) const {
+std::vector<Eigen::Isometry3d> LoopCloser::searchBasins(const WeightedCloud& from_cloud,
+                                                        const WeightedCloud& to_cloud,
+                                                        const Eigen::Isometry3d& guess) const {
   const LoopParams& l = params_.loop;
   const bool ground = grid_.includeGround();
   HeightFrame ref_coarse, cur_coarse;
@@ -133,14 +144,12 @@ bool LoopCloser::searchBasins(const WeightedCloud& from_cloud, const WeightedClo
       }
     }
   }
-  if (basins.empty()) return false;
-  // Refine the most promising basins at full resolution.
+  // The most promising basins, to be refined at full resolution.
   std::sort(basins.begin(), basins.end(),
             [](const Basin& a, const Basin& b) { return a.rms < b.rms; });
-  for (size_t i = 0; i < basins.size() && i < kRefinedBasins; ++i) {
-    refined.push_back(aligner.align(ref, cur, basins[i].pose));
-  }
-  return true;
+  std::vector<Eigen::Isometry3d> starts;
+  for (size_t i = 0; i < basins.size() && i < kRefinedBasins; ++i) starts.push_back(basins[i].pose);
+  return starts;
 }
 
 void LoopCloser::judge(const std::vector<AlignmentResult>& refined, double selected,

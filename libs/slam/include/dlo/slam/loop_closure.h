@@ -42,11 +42,12 @@ class LoopCloser {
                        PoseEdge& edge, LoopSearch search = LoopSearch::kLattice) const;
 
  private:
-  /// The lattice search of LoopSearch::kLattice: fills `refined` with the best basins refined at
-  /// full resolution. \return false if no start overlapped.
-  bool searchBasins(const WeightedCloud& from_cloud, const WeightedCloud& to_cloud,
-                    const Eigen::Isometry3d& guess, const HeightFrame& ref, const HeightFrame& cur,
-                    const DirectAligner& aligner, std::vector<AlignmentResult>& refined) const;
+  /// The lattice search of LoopSearch::kLattice, on a coarse grid: the best distinct basins
+  /// (at most kRefinedBasins, best fit first), to be refined at full resolution; empty if no
+  /// start overlapped.
+  std::vector<Eigen::Isometry3d> searchBasins(const WeightedCloud& from_cloud,
+                                              const WeightedCloud& to_cloud,
+                                              const Eigen::Isometry3d& guess) const;
   /// The checks on the refined registrations (best fit, ambiguity, RMS, inliers, correction);
   /// fills `c` (whose from, to and tracked are set) and, on acceptance, `edge`.
   void judge(const std::vector<AlignmentResult>& refined, double selected,
