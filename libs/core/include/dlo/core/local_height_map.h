@@ -69,6 +69,11 @@ class LocalHeightMap {
     Eigen::Vector2d position;
     std::vector<Delta> deltas;
   };
+  /// A point of the scan being inserted: its cell and height.
+  struct CellPoint {
+    std::uint32_t cell;
+    float z;
+  };
 
   std::uint32_t cellIndex(std::int64_t gx, std::int64_t gy) const;
   void evict(const Scan& scan);
@@ -83,6 +88,8 @@ class LocalHeightMap {
   /// Per cell: 1 + index of its entry in the deltas of the scan being inserted, 0 if untouched.
   std::vector<std::uint32_t> slot_;
   std::deque<Scan> scans_;
+  std::vector<CellPoint> cell_points_;  ///< insert()'s buffer, kept across scans
+  std::vector<Delta> spare_;            ///< the last evicted scan's deltas, reused by insert()
 };
 
 }  // namespace dlo
