@@ -210,6 +210,49 @@ TEST_F(SimulatedLoop, ATrackedGuessThatMovesTooFarIsLeftToTheLatticeSearch) {
   EXPECT_TRUE(lattice.accepted) << lattice.reason;
 }
 
+TEST_F(SimulatedLoop, AFailedSearchWaitsTheRetryDistanceBeforeTheNext) {
+  // Every verification fails (an RMS bound no real fit meets): with loop.retry_distance = 5,
+  // two lattice searches are at least 5 m of path apart; with 0, every keyframe of the revisit
+  // searches its two nearest candidates.
+  auto run = [&](double retry) {
+    SlamParams params;
+    params.loop.max_rms = 1e-3;
+    params.loop.retry_distance = retry;
+    SlamPipeline slam(params);
+    RawlogScanSource source(rawlog(".rawlog"));
+    TimedScan scan;
+    while (source.next(scan)) slam.process(scan.timestampSeconds(), scan.points, scan.point_times);
+    return slam;
+  };
+  const SlamPipeline every = run(0.0);
+  const SlamPipeline spaced = run(5.0);
+  EXPECT_EQ(every.counters().loops_accepted, 0u);
+  EXPECT_EQ(spaced.counters().loops_accepted, 0u);
+  // Path length at each frame, from the odometry.
+  const SlamMap& map = spaced.map();
+  std::vector<double> path(map.frames.size(), 0.0);
+  for (size_t i = 1; i < map.frames.size(); ++i) {
+    path[i] =
+        path[i - 1] +
+        (map.frames[i].odometry.translation() - map.frames[i - 1].odometry.translation()).norm();
+  }
+  int last_to = -1;
+  size_t searches = 0;
+  for (const LoopCandidate& c : map.loop_candidates) {
+    ASSERT_FALSE(c.tracked);
+    if (c.to == last_to) continue;  // the second candidate of the same keyframe
+    if (last_to >= 0) {
+      const double apart = path[static_cast<size_t>(map.keyframes[c.to].frame)] -
+                           path[static_cast<size_t>(map.keyframes[last_to].frame)];
+      EXPECT_GE(apart, 5.0 - 1e-9) << last_to << " -> " << c.to;
+    }
+    last_to = c.to;
+    ++searches;
+  }
+  EXPECT_GE(searches, 3u);
+  EXPECT_GT(every.map().loop_candidates.size(), 2 * map.loop_candidates.size());
+}
+
 TEST_F(SimulatedLoop, EveryOutputIsWrittenAndLoadsBack) {
   const fs::path out = *dir_ / "export";
   fs::create_directories(out);

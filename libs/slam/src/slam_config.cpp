@@ -70,6 +70,9 @@ std::vector<ParamField<SlamParams>> fields() {
                  "metres between keyframe positions for a loop candidate"),
       paramField("loop", "min_path", &S::loop, &L::min_path,
                  "metres travelled between the two keyframes of a candidate, at least"),
+      paramField("loop", "retry_distance", &S::loop, &L::retry_distance,
+                 "metres travelled after a search that closed no loop before the next one; 0: "
+                 "search at every keyframe"),
       paramField("loop", "resolution", &S::loop, &L::resolution,
                  "metres per cell of the verification grid"),
       paramField("loop", "window", &S::loop, &L::window, "metres; side of the verification grid"),

@@ -56,6 +56,8 @@ std::string SlamParams::validate() const {
   if (!(l.search_radius > 0.0))
     return outOfRange("loop.search_radius", l.search_radius, "a positive distance");
   if (!(l.min_path >= 0.0)) return outOfRange("loop.min_path", l.min_path, ">= 0 metres");
+  if (!(l.retry_distance >= 0.0))
+    return outOfRange("loop.retry_distance", l.retry_distance, ">= 0 metres");
   if (!(l.resolution > 0.0 && l.resolution <= 2.0))
     return outOfRange("loop.resolution", l.resolution, "(0, 2] metres");
   if (!(l.window >= 16 * l.resolution && l.window <= 500.0))

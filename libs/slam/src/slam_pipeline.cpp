@@ -141,6 +141,10 @@ void SlamPipeline::spillOldKeyframes() {
 void SlamPipeline::searchLoops(int newest) {
   if (newest - last_loop_keyframe_ < kLoopCooldown) return;
   const std::vector<int> candidates = loops_.candidates(map_, newest, path_length_);
+  // A place whose lattice search closed nothing is searched again only loop.retry_distance
+  // further on (a verification from the guess of a tracked revisit is not held back).
+  const bool may_search = path_length_[newest] - last_failed_search_ >= params_.loop.retry_distance;
+  bool searched = false;
   // The nearest candidates only: verification costs two registrations each.
   constexpr size_t kMaxTries = 2;
   for (size_t i = 0; i < candidates.size() && i < kMaxTries; ++i) {
@@ -152,13 +156,18 @@ void SlamPipeline::searchLoops(int newest) {
     // pass, the lattice search decides.
     const bool tracked = newest - last_loop_keyframe_ <= kTrackedSpan &&
                          std::abs(from - last_loop_from_) <= kTrackedSpan;
-    if ((tracked && tryLoop(from, newest, guess, LoopSearch::kFromGuess).accepted) ||
-        tryLoop(from, newest, guess).accepted) {
+    bool accepted = tracked && tryLoop(from, newest, guess, LoopSearch::kFromGuess).accepted;
+    if (!accepted && may_search) {
+      searched = true;
+      accepted = tryLoop(from, newest, guess).accepted;
+    }
+    if (accepted) {
       last_loop_keyframe_ = newest;
       last_loop_from_ = from;
-      break;
+      return;
     }
   }
+  if (searched) last_failed_search_ = path_length_[newest];
 }
 
 LoopCandidate SlamPipeline::tryLoop(int from, int to, const Eigen::Isometry3d& guess,

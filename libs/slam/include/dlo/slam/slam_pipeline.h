@@ -104,6 +104,8 @@ class SlamPipeline {
   double travelled_ = 0.0;
   int last_loop_keyframe_ = -1000;  ///< newest keyframe of the last accepted loop
   int last_loop_from_ = -1000;      ///< its older keyframe
+  /// Path length at the last lattice search that closed no loop (loop.retry_distance).
+  double last_failed_search_ = -1e9;
 };
 
 }  // namespace dlo
