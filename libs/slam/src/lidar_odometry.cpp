@@ -202,9 +202,13 @@ bool LidarOdometry::needsKeyframe(const Eigen::Isometry3d& pose, const Alignment
   const OdometryParams& o = params_.odometry;
   if (delta.translation().norm() >= o.keyframe_distance) return true;
   if (Eigen::AngleAxisd(delta.linear()).angle() >= o.keyframe_angle * kDeg) return true;
-  // A poor fit means the reference no longer describes the surroundings; a degenerate one
-  // would make a poor keyframe, so it waits for structure to return.
-  return !r.degenerate && r.rms_height_error > o.keyframe_max_rms;
+  // A poor fit means the reference no longer describes the surroundings, which only a new
+  // keyframe changes when keyframes make the reference (1, 2); a degenerate fit would make a
+  // poor keyframe, so it waits for structure to return. Frame to frame and with the scan map
+  // the reference moves on every scan anyway, and sparse fits, above the bound nearly always,
+  // made a keyframe of nearly every scan: a graph node, a cloud and a loop search each.
+  return (o.reference == 1 || o.reference == 2) && !r.degenerate &&
+         r.rms_height_error > o.keyframe_max_rms;
 }
 
 void LidarOdometry::addKeyframe(const Eigen::Isometry3d& pose, const PointCloud& points,
