@@ -15,15 +15,19 @@ constexpr double kUnobservedVariance = 1e6;
 /// Velocity measurements before the constant-velocity prediction is trusted to reject a scan.
 constexpr size_t kSettledVelocityUpdates = 5;
 
-/// Points within `range` metres (horizontally) of the vehicle: what a keyframe keeps.
-PointCloud withinRange(const PointCloud& points, double range) {
-  PointCloud out;
+/// Points within `range` metres (horizontally) of the vehicle, what a keyframe keeps, into
+/// `out`: moved by `motion` if it fits them, in the same pass (a deskewed copy of the whole
+/// sweep first cost a pass and a megabyte more per keyframe).
+void nearPoints(const PointCloud& points, const SweepMotion& motion, double range,
+                PointCloud& out) {
+  out.clear();
   out.reserve(points.size());
   const float r2 = static_cast<float>(range * range);
-  for (const Eigen::Vector3f& p : points) {
+  const bool moving = motion.fits(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3f p = moving ? motion.apply(i, points[i]) : points[i];
     if (p.head<2>().squaredNorm() <= r2) out.push_back(p);
   }
-  return out;
 }
 }  // namespace
 
@@ -106,11 +110,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   Stopwatch keyframe_watch;
   const bool first = frames_ == 0;
   if (!current_.empty() && (first || (hasStructure() && needsKeyframe(pose, step.registration)))) {
-    if (pending.fits(cloud.size())) {
-      addKeyframe(pose, dlo::deskew(cloud, pending), step);
-    } else {
-      addKeyframe(pose, cloud, step);
-    }
+    addKeyframe(pose, cloud, pending, step);
     if (first && params_.odometry.deskew != 0 && !point_times.empty()) {
       first_points_ = points;
       first_times_ = point_times;
@@ -212,10 +212,10 @@ bool LidarOdometry::needsKeyframe(const Eigen::Isometry3d& pose, const Alignment
 }
 
 void LidarOdometry::addKeyframe(const Eigen::Isometry3d& pose, const PointCloud& points,
-                                OdometryStep& step) {
+                                const SweepMotion& motion, OdometryStep& step) {
   const OdometryParams& o = params_.odometry;
   WeightedCloud fine;
-  decimate(points, fine, step.keyframe_cloud);
+  decimate(points, motion, fine, step.keyframe_cloud);
   step.new_keyframe = true;
   last_keyframe_pose_ = pose;
   if (o.reference != 1 && o.reference != 2) return;
@@ -225,10 +225,11 @@ void LidarOdometry::addKeyframe(const Eigen::Isometry3d& pose, const PointCloud&
   rebuildLocalMap();
 }
 
-void LidarOdometry::decimate(const PointCloud& points, WeightedCloud& fine,
-                             WeightedCloud& coarse) const {
+void LidarOdometry::decimate(const PointCloud& points, const SweepMotion& motion,
+                             WeightedCloud& fine, WeightedCloud& coarse) {
   const OdometryParams& o = params_.odometry;
-  const PointCloud near = withinRange(points, o.map_range);
+  nearPoints(points, motion, o.map_range, near_);
+  const PointCloud& near = near_;
   fine.clear();
   // Only the keyframe map (reference 1 or 2) reads `fine`: frame to frame and with the scan map
   // (sparse sensors, a keyframe nearly every scan) it is not made at all.
@@ -250,7 +251,7 @@ void LidarOdometry::redoFirstKeyframe(OdometryStep& step) {
   // the first keyframe can now be deskewed like every later scan.
   const PointCloud first = dlo::deskew(first_points_, first_times_, velocity_);
   WeightedCloud fine;
-  decimate(first, fine, step.first_keyframe_cloud);
+  decimate(first, SweepMotion(), fine, step.first_keyframe_cloud);
   const int reference = params_.odometry.reference;
   if ((reference == 1 || reference == 2) && !recent_.empty()) {
     recent_.front().cloud = std::move(fine);

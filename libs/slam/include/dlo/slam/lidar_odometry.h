@@ -86,7 +86,9 @@ class LidarOdometry {
   /// The current scan has enough selected cells (solver.min_cells) to become a keyframe.
   bool hasStructure() const;
   bool needsKeyframe(const Eigen::Isometry3d& pose, const AlignmentResult& r) const;
-  void addKeyframe(const Eigen::Isometry3d& pose, const PointCloud& points, OdometryStep& step);
+  /// `points` as registered, moved by `motion` (the deskewing still pending, if it fits them).
+  void addKeyframe(const Eigen::Isometry3d& pose, const PointCloud& points,
+                   const SweepMotion& motion, OdometryStep& step);
   void rebuildLocalMap();
   /// On the first non-empty scan: switches to the sparse sensor's grid if it has few points.
   void adaptToSensor(size_t points);
@@ -100,12 +102,14 @@ class LidarOdometry {
   /// A keyframe's points within map_range, decimated for the local map (`fine`,
   /// keyframe_voxel, 0 = every point; left empty unless the keyframe map is the reference)
   /// and for the long-term map (`coarse`, map_voxel).
-  void decimate(const PointCloud& points, WeightedCloud& fine, WeightedCloud& coarse) const;
+  void decimate(const PointCloud& points, const SweepMotion& motion, WeightedCloud& fine,
+                WeightedCloud& coarse);
 
   SlamParams params_;
   DirectAligner aligner_;
   HeightFrame current_;    ///< reused for every scan
   PointCloud deskewed_;    ///< reference = 3: the scan deskewed, memory reused for every scan
+  PointCloud near_;        ///< a keyframe's points within map_range, memory reused
   HeightFrame reference_;  ///< previous scan, last keyframe or local map
   Eigen::Isometry3d reference_pose_ = Eigen::Isometry3d::Identity();  ///< odometry frame
   std::deque<RecentKeyframe> recent_;
