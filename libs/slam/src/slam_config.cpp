@@ -53,7 +53,8 @@ std::vector<ParamField<SlamParams>> fields() {
       paramField("odometry", "keyframe_angle", &S::odometry, &O::keyframe_angle,
                  "degrees turned since the last keyframe that make a new one"),
       paramField("odometry", "keyframe_max_rms", &S::odometry, &O::keyframe_max_rms,
-                 "registration RMS height error (m) above which the scan becomes a keyframe"),
+                 "registration RMS height error (m) above which the scan becomes a keyframe "
+                 "(reference 1 or 2 only: their reference is made of keyframes)"),
       paramField("odometry", "keyframe_voxel", &S::odometry, &O::keyframe_voxel,
                  "metres; decimation of keyframe clouds for the local map"),
       paramField("odometry", "map_voxel", &S::odometry, &O::map_voxel,

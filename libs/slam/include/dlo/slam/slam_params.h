@@ -51,7 +51,9 @@ struct OdometryParams {
   int max_rejected_scans = 5;
   double keyframe_distance = 2.0;  ///< metres travelled since the last keyframe: new keyframe
   double keyframe_angle = 10.0;    ///< degrees turned since the last keyframe: new keyframe
-  double keyframe_max_rms = 0.3;   ///< registration RMS height error (m) above this: new keyframe
+  /// Registration RMS height error (m) above this: new keyframe, with reference 1 or 2 (whose
+  /// reference is made of keyframes) only.
+  double keyframe_max_rms = 0.3;
   /// metres; decimation of keyframe clouds for the local map; 0 keeps every point (at 0.05 m an
   /// HDL-64 sweep keeps 91k of 117k points and the local map rasterised four such clouds per
   /// keyframe, hence 0.1 m, README; every point let the simulated open field of the
