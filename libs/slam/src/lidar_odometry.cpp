@@ -229,21 +229,20 @@ void LidarOdometry::decimate(const PointCloud& points, const SweepMotion& motion
                              WeightedCloud& fine, WeightedCloud& coarse) {
   const OdometryParams& o = params_.odometry;
   nearPoints(points, motion, o.map_range, near_);
-  const PointCloud& near = near_;
   fine.clear();
   // Only the keyframe map (reference 1 or 2) reads `fine`: frame to frame and with the scan map
-  // (sparse sensors, a keyframe nearly every scan) it is not made at all.
+  // (sparse sensors) it is not made at all.
   if (o.reference == 1 || o.reference == 2) {
     if (o.keyframe_voxel > 0.0) {
-      fine = voxelise(near, o.keyframe_voxel);
+      fine = voxelise(near_, o.keyframe_voxel);
       coarse = voxelise(fine, o.map_voxel);
       return;
     }
     // No decimation: at 0.05 m an HDL-64 sweep keeps 100k of its 129k points, and hashing them
     // cost more than the rest of a keyframe; rasterising the 30% more points costs less.
-    fine = unitWeights(near);
+    fine = unitWeights(near_);
   }
-  coarse = voxelise(near, o.map_voxel);
+  coarse = voxelise(near_, o.map_voxel);
 }
 
 void LidarOdometry::redoFirstKeyframe(OdometryStep& step) {

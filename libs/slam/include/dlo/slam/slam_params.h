@@ -74,8 +74,7 @@ struct LoopParams {
   double search_radius = 12.0;  ///< metres between keyframe positions to be a candidate
   double min_path = 40.0;       ///< metres travelled between the two keyframes, at least
   /// Metres travelled after a lattice search that closed no loop before the next one: the same
-  /// place seen a metre later rarely verifies where it did not (sparse sensors make a keyframe
-  /// nearly every scan); 0 searches at every keyframe.
+  /// place seen a metre later rarely verifies where it did not; 0 searches at every keyframe.
   double retry_distance = 2.0;
   double resolution = 0.2;         ///< metres per cell of the verification grid
   double window = 60.0;            ///< metres; side of the verification grid
