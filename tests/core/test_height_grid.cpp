@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
+#include <utility>
 
 #include "dlo/core/height_grid.h"
 
@@ -107,6 +109,62 @@ TEST(HeightGrid, FillHolesInterpolatesTheCoarserLevelWithoutTouchingMeasuredCell
   EXPECT_LE(fine.height(4, 4), 3.0f);
   EXPECT_FALSE(fine.hasSupport(0, 9));
   EXPECT_FALSE(fine.hasSupport(9, 0));
+}
+
+TEST(HeightGrid, FillHolesIsTheSupportWeightedBilinearInterpolationOfTheCoarserLevel) {
+  // Odd sizes (the vectorised interpolation works eight fine columns at a time) and scattered
+  // cells of random heights; every empty cell is checked against the interpolation written out.
+  for (const auto& [cols, rows] : {std::pair<int, int>{37, 23}, {64, 9}, {5, 40}}) {
+    const GridGeometry geo{-1.0, 2.0, 0.5, cols, rows};
+    std::mt19937 rng(11);
+    std::uniform_int_distribution<int> col(0, cols - 1), row(0, rows - 1);
+    std::uniform_real_distribution<float> height(-2.0f, 2.0f);
+    PointCloud pts;
+    for (int i = 0; i < cols * rows / 6; ++i) {
+      // Three points in a random cell.
+      const int c = col(rng), r = row(rng);
+      for (int k = 0; k < 3; ++k) {
+        pts.emplace_back(static_cast<float>(geo.x_min + (c + 0.2 + 0.3 * k) * geo.resolution),
+                         static_cast<float>(geo.y_min + (r + 0.5) * geo.resolution), height(rng));
+      }
+    }
+    const HeightGrid raw = HeightGrid::fromPoints(pts, geo, 3, -10, 10);
+    const HeightGrid coarse = raw.coarser();
+    HeightGrid filled = raw;
+    filled.fillHolesFrom(coarse);
+    int checked = 0;
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c) {
+        if (raw.isValid(r, c)) {
+          ASSERT_TRUE(filled.hasSupport(r, c));
+          ASSERT_EQ(filled.height(r, c), raw.height(r, c));
+          continue;
+        }
+        // The fine centre in coarse cell units, and its four surrounding coarse cells.
+        const double u = (c + 0.5) / 2.0 - 0.5, v = (r + 0.5) / 2.0 - 0.5;
+        const int u0 = static_cast<int>(std::floor(u)), v0 = static_cast<int>(std::floor(v));
+        double w = 0.0, wh = 0.0;
+        for (int dv = 0; dv < 2; ++dv) {
+          for (int du = 0; du < 2; ++du) {
+            const int cu = u0 + du, cv = v0 + dv;
+            if (cu < 0 || cv < 0 || cu >= coarse.cols() || cv >= coarse.rows() ||
+                !coarse.isValid(cv, cu)) {
+              continue;
+            }
+            const double k = (du ? u - u0 : 1.0 - (u - u0)) * (dv ? v - v0 : 1.0 - (v - v0));
+            w += k;
+            wh += k * coarse.height(cv, cu);
+          }
+        }
+        ASSERT_EQ(filled.hasSupport(r, c), w >= 0.5) << r << ", " << c;
+        if (w >= 0.5) {
+          ASSERT_NEAR(filled.height(r, c), wh / w, 1e-5) << r << ", " << c;
+          ++checked;
+        }
+      }
+    }
+    EXPECT_GT(checked, cols * rows / 10);
+  }
 }
 
 TEST(HeightGrid, FillHolesRejectsALevelThatIsNotItsOwnCoarser) {

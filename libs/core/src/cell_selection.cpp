@@ -29,11 +29,12 @@ void forEachSet(const std::uint8_t* mask, int cols, Visit visit) {
   }
 }
 
-/// The selection proper. `gradient(r, c, gx, gy)` gives the gradient of a measured interior
-/// cell and returns false where it is masked; it is only asked for measured cells.
-template <typename Gradient>
+/// The selection proper. `magnitude(r, c)` gives the squared gradient magnitude of a measured
+/// interior cell, or -1 where the gradient is masked; it is only asked for measured cells, rows
+/// in increasing order.
+template <typename Magnitude>
 void select(const HeightGrid& grid, const SelectionParams& params, bool include_ground,
-            std::vector<SelectedCell>& cells, Gradient gradient) {
+            std::vector<SelectedCell>& cells, Magnitude magnitude) {
   const GridGeometry& geo = grid.geometry();
   const int bs = std::max(1, params.block_size);
   const float min_sq = static_cast<float>(params.min_gradient * params.min_gradient);
@@ -49,24 +50,28 @@ void select(const HeightGrid& grid, const SelectionParams& params, bool include_
   // block rows at a time, keeping a running best per block column; within a band, cells come in
   // row-major order and a later cell wins a tie.
   const int block_cols = (geo.cols + bs - 1) / bs;
-  // Scratch kept across calls; bound to references once, since every use of a thread_local
-  // name in the loop would otherwise look up the thread's storage again.
+  // Scratch kept across calls, used through plain pointers: a thread_local name (or a
+  // reference to one) in the loop makes the compiler look up the thread's storage again at
+  // every cell.
   thread_local std::vector<float> best_scratch;
-  thread_local std::vector<int> index_scratch;
-  std::vector<float>& best = best_scratch;
-  std::vector<int>& best_index = index_scratch;
-  best.resize(static_cast<size_t>(block_cols));
-  best_index.resize(static_cast<size_t>(block_cols));
+  thread_local std::vector<int> index_scratch, block_scratch;
+  best_scratch.resize(static_cast<size_t>(block_cols));
+  index_scratch.resize(static_cast<size_t>(block_cols));
+  block_scratch.resize(static_cast<size_t>(geo.cols));
+  float* const best = best_scratch.data();
+  int* const best_index = index_scratch.data();
+  // The block column of each column: a table instead of a division per cell.
+  int* const block_of = block_scratch.data();
+  for (int c = 0; c < geo.cols; ++c) block_of[c] = c / bs;
   for (int br = 0; br < geo.rows; br += bs) {
-    std::fill(best.begin(), best.end(), min_sq);
-    std::fill(best_index.begin(), best_index.end(), -1);
+    std::fill(best, best + block_cols, min_sq);
+    std::fill(best_index, best_index + block_cols, -1);
     // Gradients need both neighbours: the first and last rows and columns have none.
     for (int r = std::max(br, 1); r < std::min(br + bs, geo.rows - 1); ++r) {
       forEachSet(measured + r * geo.cols, geo.cols, [&](int c) {
-        float gx, gy;
-        if (c == 0 || c == geo.cols - 1 || !gradient(r, c, gx, gy)) return;
-        const float mag = gx * gx + gy * gy;
-        const int b = c / bs;
+        if (c == 0 || c == geo.cols - 1) return;
+        const float mag = magnitude(r, c);  // -1 when masked: below any threshold
+        const int b = block_of[c];
         if (mag >= best[b]) {
           best[b] = mag;
           best_index[b] = r * geo.cols + c;
@@ -115,11 +120,9 @@ void selectHighGradientCells(const HeightGrid& grid, const GradientField& gradie
                              const SelectionParams& params, bool include_ground,
                              std::vector<SelectedCell>& cells) {
   const int cols = grid.cols();
-  select(grid, params, include_ground, cells, [&](int r, int c, float& gx, float& gy) {
+  select(grid, params, include_ground, cells, [&](int r, int c) {
     const GradientCell& g = gradients.cells[r * cols + c];
-    gx = g.gx;
-    gy = g.gy;
-    return g.ok != 0.0f;
+    return g.ok != 0.0f ? g.gx * g.gx + g.gy * g.gy : -1.0f;
   });
 }
 
@@ -130,31 +133,56 @@ void selectHighGradientCells(const HeightGrid& grid, const HeightGrid* fill_sour
     throw std::invalid_argument("selectHighGradientCells needs the grid's own coarser() level");
   }
   thread_local PullSource source_scratch;
+  thread_local std::vector<float> row_scratch, rows_scratch;
   PullSource& source = source_scratch;
+  std::vector<float>& interpolation = row_scratch;
   if (fill_source != nullptr) fill_source->preparePull(source);
+  const PullSource* pull = fill_source != nullptr ? &source : nullptr;
+  // Heights and "has a height" flags of three consecutive rows, as fillHolesFrom(fill_source)
+  // would leave them (rows r - 1, r, r + 1 in slots (r - 1) % 3, ...), and the squared
+  // gradient magnitudes of the row being selected: computed a whole row at a time, vectorised,
+  // when the selection first reaches a row with measured cells.
   const int cols = grid.cols();
+  const size_t n = static_cast<size_t>(cols);
+  std::vector<float>& rows = rows_scratch;
+  rows.resize(7 * n);
+  float* height[3] = {rows.data(), rows.data() + n, rows.data() + 2 * n};
+  float* has[3] = {rows.data() + 3 * n, rows.data() + 4 * n, rows.data() + 5 * n};
+  float* const mag = rows.data() + 6 * n;
+  int slot_row[3] = {-1, -1, -1};
+  int mag_row = -1;
   const float k = static_cast<float>(0.5 / grid.resolution());
-  const std::vector<float>& heights = grid.heights();
-  const std::vector<std::uint8_t>& support = grid.supportMask();
-  // A neighbour's height as computeGradients() would see it after fillHolesFrom(fill_source).
-  auto height = [&](int r, int c, float& h) {
-    const int i = r * cols + c;
-    if (support[i]) {
-      h = heights[i];
-      return true;
+  auto pulled = [&](int r) {
+    const int s = r % 3;
+    if (slot_row[s] != r) {
+      grid.pulledRow(r, pull, height[s], has[s], interpolation);
+      slot_row[s] = r;
     }
-    return fill_source != nullptr && grid.pulledHeight(r, c, source, h);
+    return s;
   };
-  select(grid, params, include_ground, cells, [&](int r, int c, float& gx, float& gy) {
-    float left, right, down, up;
-    if (!height(r, c - 1, left) || !height(r, c + 1, right) || !height(r - 1, c, down) ||
-        !height(r + 1, c, up)) {
-      return false;
+  auto magnitudes = [&](int r) {
+    const int d = pulled(r - 1), m = pulled(r), u = pulled(r + 1);
+    const float* __restrict__ hd = height[d];
+    const float* __restrict__ hm = height[m];
+    const float* __restrict__ hu = height[u];
+    const float* __restrict__ okd = has[d];
+    const float* __restrict__ okm = has[m];
+    const float* __restrict__ oku = has[u];
+    float* __restrict__ out = mag;
+    for (int c = 1; c + 1 < cols; ++c) {
+      // computeGradients()'s central differences, in the same order of operations.
+      const float gx = (hm[c + 1] - hm[c - 1]) * k;
+      const float gy = (hu[c] - hd[c]) * k;
+      // 1 where all four neighbours have a height, else 0; arithmetic rather than a
+      // conditional, which the compiler does not vectorise (a float compare might trap).
+      const float ok = okm[c - 1] * okm[c + 1] * okd[c] * oku[c];
+      out[c] = ok * (gx * gx + gy * gy) + (ok - 1.0f);
     }
-    // computeGradients()'s central differences, in the same order of operations.
-    gx = (right - left) * k;
-    gy = (up - down) * k;
-    return true;
+    mag_row = r;
+  };
+  select(grid, params, include_ground, cells, [&](int r, int c) {
+    if (r != mag_row) magnitudes(r);
+    return mag[c];
   });
 }
 

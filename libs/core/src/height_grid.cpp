@@ -363,77 +363,131 @@ void HeightGrid::preparePull(PullSource& out) const {
   }
 }
 
+namespace {
+
+/// The coarse level's interpolation for every cell of fine row `row` (`cols` cells), measured or
+/// not: value[c] = sum(w*s*h) / max(sum(w*s), 1/2) and ok[c] = 1 where sum(w*s) >= 1/2 (most
+/// of the interpolation weight is supported: no extrapolation far from data), else 0. Both
+/// point into `scratch`, valid until its next use. The same operations in the same order for
+/// every cell, vectorised four coarse columns (eight fine cells) at a time.
+struct InterpolatedRow {
+  const float* value;
+  const float* ok;
+};
+InterpolatedRow interpolateRow(const PullSource& source, int row, int cols,
+                               std::vector<float>& scratch) {
+  const int pc = source.cols;
+  const int half = (cols + 1) / 2;  // coarse columns; pc == half + 2
+  const int blocks = (half + 3) / 4;
+  // Vertical blends (padded to whole vectors, with zeros) and the fine row's values and flags.
+  const size_t blend = static_cast<size_t>(pc) + 8;
+  const size_t fine = static_cast<size_t>(blocks) * 8;
+  scratch.resize(2 * blend + 2 * fine);
+  float* __restrict__ vs = scratch.data();
+  float* __restrict__ vh = vs + blend;
+  float* __restrict__ value = vh + blend;
+  float* __restrict__ ok = value + fine;
+  // A fine cell centre lies a quarter of a coarse cell from the coarse centres around it, so
+  // the bilinear weights are 3/4 and 1/4; its padded coarse cell is (r+1)/2, (c+1)/2. First the
+  // two padded coarse rows around the fine row are blended.
+  const int pr0 = (row + 1) / 2;
+  const float b = (row % 2 == 0) ? 0.75f : 0.25f;
+  const float* __restrict__ s0 = source.support.data() + static_cast<size_t>(pr0) * pc;
+  const float* __restrict__ h0 = source.height.data() + static_cast<size_t>(pr0) * pc;
+  for (int j = 0; j < pc; ++j) {
+    vs[j] = (1 - b) * s0[j] + b * s0[j + pc];
+    vh[j] = (1 - b) * h0[j] + b * h0[j + pc];
+  }
+  std::fill(vs + pc, vs + blend, 0.0f);
+  std::fill(vh + pc, vh + blend, 0.0f);
+  // Then horizontally: fine column 2j lies 3/4 of the way from padded coarse column j to j + 1,
+  // column 2j + 1 1/4 of the way from j + 1 to j + 2.
+  int j = 0;
+#ifdef __SSE2__
+  const __m128 quarter = _mm_set1_ps(0.25f), three = _mm_set1_ps(0.75f), half_w = _mm_set1_ps(0.5f);
+  const __m128 one = _mm_set1_ps(1.0f);
+  for (; j < 4 * blocks; j += 4) {
+    const __m128 s_a = _mm_loadu_ps(vs + j), s_b = _mm_loadu_ps(vs + j + 1),
+                 s_c = _mm_loadu_ps(vs + j + 2);
+    const __m128 h_a = _mm_loadu_ps(vh + j), h_b = _mm_loadu_ps(vh + j + 1),
+                 h_c = _mm_loadu_ps(vh + j + 2);
+    const __m128 we = _mm_add_ps(_mm_mul_ps(quarter, s_a), _mm_mul_ps(three, s_b));
+    const __m128 wo = _mm_add_ps(_mm_mul_ps(three, s_b), _mm_mul_ps(quarter, s_c));
+    const __m128 fe = _mm_div_ps(_mm_add_ps(_mm_mul_ps(quarter, h_a), _mm_mul_ps(three, h_b)),
+                                 _mm_max_ps(we, half_w));
+    const __m128 fo = _mm_div_ps(_mm_add_ps(_mm_mul_ps(three, h_b), _mm_mul_ps(quarter, h_c)),
+                                 _mm_max_ps(wo, half_w));
+    const __m128 ke = _mm_and_ps(_mm_cmpge_ps(we, half_w), one);
+    const __m128 ko = _mm_and_ps(_mm_cmpge_ps(wo, half_w), one);
+    // Interleaved into fine-column order: 2j, 2j + 1, ...
+    _mm_storeu_ps(value + 2 * j, _mm_unpacklo_ps(fe, fo));
+    _mm_storeu_ps(value + 2 * j + 4, _mm_unpackhi_ps(fe, fo));
+    _mm_storeu_ps(ok + 2 * j, _mm_unpacklo_ps(ke, ko));
+    _mm_storeu_ps(ok + 2 * j + 4, _mm_unpackhi_ps(ke, ko));
+  }
+#endif
+  for (; j < 4 * blocks; ++j) {
+    const float we = 0.25f * vs[j] + 0.75f * vs[j + 1];
+    const float wo = 0.75f * vs[j + 1] + 0.25f * vs[j + 2];
+    value[2 * j] = (0.25f * vh[j] + 0.75f * vh[j + 1]) / std::max(we, 0.5f);
+    value[2 * j + 1] = (0.75f * vh[j + 1] + 0.25f * vh[j + 2]) / std::max(wo, 0.5f);
+    ok[2 * j] = we >= 0.5f ? 1.0f : 0.0f;
+    ok[2 * j + 1] = wo >= 0.5f ? 1.0f : 0.0f;
+  }
+  return InterpolatedRow{value, ok};
+}
+
+}  // namespace
+
 void HeightGrid::fillHolesFrom(const HeightGrid& coarser) {
   if (!isCoarserLevel(coarser)) {
     throw std::invalid_argument("HeightGrid::fillHolesFrom needs the grid's own coarser() level");
   }
   // Scratch kept across calls: streaming frames should not hand memory back to the system.
-  thread_local PullSource source;
+  thread_local PullSource source_scratch;
+  thread_local std::vector<float> row_scratch;
+  PullSource& source = source_scratch;
+  std::vector<float>& scratch = row_scratch;
   coarser.preparePull(source);
-  const int pc = source.cols;
-  thread_local std::vector<float> vs, vh;
-  // A fine cell centre lies a quarter of a coarse cell from the coarse centres around it, so
-  // the bilinear weights are 3/4 and 1/4; its padded coarse cell is (r+1)/2, (c+1)/2.
-  // Per fine row: blend the two coarse rows around it (weights 3/4, 1/4), then blend
-  // horizontally; even fine columns lie 3/4 of the way to padded coarse column c/2 + 1, odd
-  // ones 1/4 of the way to it.
-  vs.resize(static_cast<size_t>(pc));
-  vh.resize(static_cast<size_t>(pc));
-  const int half = (geometry_.cols + 1) / 2;
-  thread_local std::vector<float> fill_even, fill_odd, ok_even, ok_odd;
-  fill_even.resize(half);
-  fill_odd.resize(half);
-  ok_even.resize(half);
-  ok_odd.resize(half);
-  // Raw restrict pointers: the loops below then vectorise (thread_local vectors otherwise
-  // force a reload of their data pointers at every iteration).
-  float* __restrict__ pvs = vs.data();
-  float* __restrict__ pvh = vh.data();
-  float* __restrict__ fe = fill_even.data();
-  float* __restrict__ fo = fill_odd.data();
-  float* __restrict__ ke = ok_even.data();
-  float* __restrict__ ko = ok_odd.data();
-  const float* ps = source.support.data();
-  const float* psh = source.height.data();
   const int cols = geometry_.cols;
   for (int r = 0; r < geometry_.rows; ++r) {
-    const int pr0 = (r + 1) / 2;  // padded coarse row of the lower neighbour
-    const float b = (r % 2 == 0) ? 0.75f : 0.25f;
-    const float* s0 = ps + pr0 * pc;
-    const float* h0 = psh + pr0 * pc;
-    for (int j = 0; j < pc; ++j) {
-      pvs[j] = (1 - b) * s0[j] + b * s0[j + pc];
-      pvh[j] = (1 - b) * h0[j] + b * h0[j + pc];
+    const InterpolatedRow pulled = interpolateRow(source, r, cols, scratch);
+    const float* __restrict__ value = pulled.value;
+    const float* __restrict__ ok = pulled.ok;
+    float* __restrict__ hrow = height_.data() + static_cast<size_t>(r) * cols;
+    const std::uint8_t* __restrict__ vrow = valid_.data() + static_cast<size_t>(r) * cols;
+    std::uint8_t* __restrict__ srow = support_.data() + static_cast<size_t>(r) * cols;
+    // Arithmetic rather than conditionals, so that the loop vectorises: measured cells (v = 1)
+    // keep their height exactly (h + 0 * value), the others (height 0) take the pulled one
+    // where `ok`.
+    for (int c = 0; c < cols; ++c) {
+      const float v = static_cast<float>(vrow[c]);
+      hrow[c] = v * hrow[c] + (1.0f - v) * ok[c] * value[c];
+      srow[c] = static_cast<std::uint8_t>(v + (1.0f - v) * ok[c]);
     }
-    // Fine column 2j lies 3/4 of the way from padded coarse column j to j + 1; column 2j + 1
-    // 1/4 of the way from j + 1 to j + 2. Unit-stride loops, so they vectorise.
-    for (int j = 0; j < half; ++j) {
-      const float we = 0.25f * pvs[j] + 0.75f * pvs[j + 1];
-      const float wo = 0.75f * pvs[j + 1] + 0.25f * pvs[j + 2];
-      fe[j] = (0.25f * pvh[j] + 0.75f * pvh[j + 1]) / std::max(we, 0.5f);
-      fo[j] = (0.75f * pvh[j + 1] + 0.25f * pvh[j + 2]) / std::max(wo, 0.5f);
-      // Require most of the interpolation weight: no extrapolation far from data.
-      ke[j] = we >= 0.5f ? 1.0f : 0.0f;
-      ko[j] = wo >= 0.5f ? 1.0f : 0.0f;
+  }
+}
+
+void HeightGrid::pulledRow(int row, const PullSource* source, float* height, float* has,
+                           std::vector<float>& scratch) const {
+  const int cols = geometry_.cols;
+  const float* __restrict__ own = height_.data() + static_cast<size_t>(row) * cols;
+  const std::uint8_t* __restrict__ sup = support_.data() + static_cast<size_t>(row) * cols;
+  if (source == nullptr) {
+    for (int c = 0; c < cols; ++c) {
+      has[c] = static_cast<float>(sup[c]);
+      height[c] = has[c] * own[c];
     }
-    float* __restrict__ hrow = height_.data() + r * cols;
-    const std::uint8_t* __restrict__ vrow = valid_.data() + r * cols;
-    std::uint8_t* __restrict__ srow = support_.data() + r * cols;
-    for (int j = 0; j < cols / 2; ++j) {
-      const int c = 2 * j;
-      const bool fill0 = !vrow[c] && ke[j] != 0.0f;
-      const bool fill1 = !vrow[c + 1] && ko[j] != 0.0f;
-      hrow[c] = fill0 ? fe[j] : hrow[c];
-      hrow[c + 1] = fill1 ? fo[j] : hrow[c + 1];
-      srow[c] = static_cast<std::uint8_t>(vrow[c] | (fill0 ? 1u : 0u));
-      srow[c + 1] = static_cast<std::uint8_t>(vrow[c + 1] | (fill1 ? 1u : 0u));
-    }
-    if (cols % 2 != 0) {
-      const int c = cols - 1;
-      const bool fill = !vrow[c] && ke[c / 2] != 0.0f;
-      hrow[c] = fill ? fe[c / 2] : hrow[c];
-      srow[c] = static_cast<std::uint8_t>(vrow[c] | (fill ? 1u : 0u));
-    }
+    return;
+  }
+  const InterpolatedRow pulled = interpolateRow(*source, row, cols, scratch);
+  const float* __restrict__ value = pulled.value;
+  const float* __restrict__ ok = pulled.ok;
+  // Arithmetic, to vectorise: a supported cell keeps its height exactly (s * own + 0 * value).
+  for (int c = 0; c < cols; ++c) {
+    const float s = static_cast<float>(sup[c]);
+    height[c] = s * own[c] + (1.0f - s) * value[c];
+    has[c] = s + (1.0f - s) * ok[c];
   }
 }
 
@@ -443,33 +497,6 @@ bool HeightGrid::isCoarserLevel(const HeightGrid& coarser) const {
          std::abs(cg.resolution - 2.0 * geometry_.resolution) <= 1e-9 * cg.resolution &&
          std::abs(cg.x_min - geometry_.x_min) <= 1e-6 &&
          std::abs(cg.y_min - geometry_.y_min) <= 1e-6;
-}
-
-bool HeightGrid::pulledHeight(int row, int col, const PullSource& source, float& h) const {
-  if (support_[index(row, col)]) {
-    h = height_[index(row, col)];
-    return true;
-  }
-  // fillHolesFrom() for one cell, with the same operations in the same order so that both
-  // give the same float: blend the two padded coarse rows around the fine row, then two of
-  // those column blends.
-  const int pc = source.cols;
-  const int pr0 = (row + 1) / 2;
-  const float b = (row % 2 == 0) ? 0.75f : 0.25f;
-  const float* s0 = source.support.data() + pr0 * pc;
-  const float* h0 = source.height.data() + pr0 * pc;
-  auto vs = [&](int j) { return (1 - b) * s0[j] + b * s0[j + pc]; };
-  auto vh = [&](int j) { return (1 - b) * h0[j] + b * h0[j + pc]; };
-  // Fine column col lies between padded coarse columns a and a + 1: 3/4 of the way for an even
-  // column, 1/4 for an odd one. Chosen without a branch: the parity of neighbouring cells is
-  // as good as random for a branch predictor.
-  const int a = (col + 1) / 2;
-  const float wl = (col & 1) != 0 ? 0.75f : 0.25f;
-  const float wr = 1.0f - wl;  // exact: 0.25 or 0.75
-  const float w = wl * vs(a) + wr * vs(a + 1);
-  const float sum = wl * vh(a) + wr * vh(a + 1);
-  h = sum / std::max(w, 0.5f);
-  return w >= 0.5f;
 }
 
 cv::Mat HeightGrid::heightImage() const {

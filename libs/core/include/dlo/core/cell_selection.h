@@ -43,7 +43,7 @@ void selectHighGradientCells(const HeightGrid& grid, const GradientField& gradie
                              std::vector<SelectedCell>& out);
 /// The same selection without a gradient field: gradients are computed from the grid's heights
 /// at measured cells only. Neighbours without a height take the one fillHolesFrom(*fill_source)
-/// would give them (HeightGrid::pulledHeight), so the result equals filling the grid, computing
+/// would give them (HeightGrid::pulledRow), so the result equals filling the grid, computing
 /// its gradients and calling the form above, at a fraction of the cost; the grid may also be
 /// filled already. `fill_source` is the grid's coarser() level, hole-filled, or nullptr for no
 /// filling; anything else throws std::invalid_argument.

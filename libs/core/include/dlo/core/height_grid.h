@@ -26,7 +26,7 @@ struct HeightGridParams {
 };
 
 /// A coarse level laid out for the "pull" of hole filling (HeightGrid::fillHolesFrom and
-/// pulledHeight): support (0 or 1) and support-weighted height per cell, with a one-cell border
+/// pulledRow): support (0 or 1) and support-weighted height per cell, with a one-cell border
 /// of zeros, so that the interpolation needs neither branches nor bounds checks: height =
 /// sum(w*s*h) / sum(w*s) over the four surrounding coarse cells.
 struct PullSource {
@@ -92,14 +92,17 @@ class HeightGrid {
   /// and remain the only ones isValid().
   void fillHolesFrom(const HeightGrid& coarser);
 
-  /// This grid (as the coarser level of another) laid out for pulledHeight().
+  /// This grid (as the coarser level of another) laid out for pulledRow().
   void preparePull(PullSource& out) const;
-  /// The height fillHolesFrom(coarser) would leave in one cell, without filling the grid: the
-  /// cell's own height where hasSupport(), else the pulled estimate. False where the cell would
-  /// stay empty. Lets a scan that is only registered, never a reference, fill just the
-  /// neighbours of its measured cells. `source` comes from coarser.preparePull(), with
-  /// isCoarserLevel(coarser) (unchecked).
-  bool pulledHeight(int row, int col, const PullSource& source, float& h) const;
+  /// One row of heights as fillHolesFrom(coarser) would leave them, without filling the grid:
+  /// height[c] is the cell's own height where hasSupport(), else the pulled estimate, and
+  /// has[c] is 1 where the cell has a height, 0 where it would stay empty (height[c] is then
+  /// meaningless), for every column c. Lets a scan that is only registered, never a reference,
+  /// compute the gradients of its measured cells without filling its finest level. `source`
+  /// comes from coarser.preparePull(), with isCoarserLevel(coarser) (unchecked), or is nullptr
+  /// for no filling. `scratch` is working memory, reused across calls.
+  void pulledRow(int row, const PullSource* source, float* height, float* has,
+                 std::vector<float>& scratch) const;
   /// True when `coarser` has this grid's coarser() geometry (what fillHolesFrom() requires).
   bool isCoarserLevel(const HeightGrid& coarser) const;
 
