@@ -5,6 +5,10 @@
 #include <cstring>
 #include <stdexcept>
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 namespace dlo {
 
 namespace {
@@ -29,16 +33,17 @@ void forEachSet(const std::uint8_t* mask, int cols, Visit visit) {
   }
 }
 
-/// The selection proper. `magnitude(r, c)` gives the squared gradient magnitude of a measured
-/// interior cell, or -1 where the gradient is masked; it is only asked for measured cells, rows
-/// in increasing order.
-template <typename Magnitude>
+/// The selection proper. `candidates(r)` gives row r's cells that may be selected: a byte per
+/// column, non-zero at least at every measured cell whose squared gradient magnitude reaches
+/// the threshold, zero at unmeasured ones; `magnitude(r, c)` gives the squared gradient
+/// magnitude of such a cell, or -1 where the gradient is masked. Rows come in increasing
+/// order, and magnitude() only for the row of the last candidates().
+template <typename Candidates, typename Magnitude>
 void select(const HeightGrid& grid, const SelectionParams& params, bool include_ground,
-            std::vector<SelectedCell>& cells, Magnitude magnitude) {
+            std::vector<SelectedCell>& cells, Candidates candidates, Magnitude magnitude) {
   const GridGeometry& geo = grid.geometry();
   const int bs = std::max(1, params.block_size);
   const float min_sq = static_cast<float>(params.min_gradient * params.min_gradient);
-  const std::uint8_t* measured = grid.validMask().data();
   cells.clear();
   cells.reserve(static_cast<size_t>(geo.cellCount() / (bs * bs) + 1));
   auto make_cell = [&](int r, int c) {
@@ -68,7 +73,7 @@ void select(const HeightGrid& grid, const SelectionParams& params, bool include_
     std::fill(best_index, best_index + block_cols, -1);
     // Gradients need both neighbours: the first and last rows and columns have none.
     for (int r = std::max(br, 1); r < std::min(br + bs, geo.rows - 1); ++r) {
-      forEachSet(measured + r * geo.cols, geo.cols, [&](int c) {
+      forEachSet(candidates(r), geo.cols, [&](int c) {
         if (c == 0 || c == geo.cols - 1) return;
         const float mag = magnitude(r, c);  // -1 when masked: below any threshold
         const int b = block_of[c];
@@ -120,10 +125,13 @@ void selectHighGradientCells(const HeightGrid& grid, const GradientField& gradie
                              const SelectionParams& params, bool include_ground,
                              std::vector<SelectedCell>& cells) {
   const int cols = grid.cols();
-  select(grid, params, include_ground, cells, [&](int r, int c) {
-    const GradientCell& g = gradients.cells[r * cols + c];
-    return g.ok != 0.0f ? g.gx * g.gx + g.gy * g.gy : -1.0f;
-  });
+  const std::uint8_t* measured = grid.validMask().data();
+  select(
+      grid, params, include_ground, cells, [&](int r) { return measured + r * cols; },
+      [&](int r, int c) {
+        const GradientCell& g = gradients.cells[r * cols + c];
+        return g.ok != 0.0f ? g.gx * g.gx + g.gy * g.gy : -1.0f;
+      });
 }
 
 void selectHighGradientCells(const HeightGrid& grid, const HeightGrid* fill_source,
@@ -134,14 +142,16 @@ void selectHighGradientCells(const HeightGrid& grid, const HeightGrid* fill_sour
   }
   thread_local PullSource source_scratch;
   thread_local std::vector<float> row_scratch, rows_scratch;
+  thread_local std::vector<std::uint8_t> mask_scratch;
   PullSource& source = source_scratch;
   std::vector<float>& interpolation = row_scratch;
   if (fill_source != nullptr) fill_source->preparePull(source);
   const PullSource* pull = fill_source != nullptr ? &source : nullptr;
   // Heights and "has a height" flags of three consecutive rows, as fillHolesFrom(fill_source)
-  // would leave them (rows r - 1, r, r + 1 in slots (r - 1) % 3, ...), and the squared
-  // gradient magnitudes of the row being selected: computed a whole row at a time, vectorised,
-  // when the selection first reaches a row with measured cells.
+  // would leave them (row r in slot r % 3), the squared gradient magnitudes of the row being
+  // selected and its candidates (measured cells at the threshold or above): computed a whole
+  // row at a time, vectorised, so that the per-cell part of the selection only sees the few
+  // cells on edges.
   const int cols = grid.cols();
   const size_t n = static_cast<size_t>(cols);
   std::vector<float>& rows = rows_scratch;
@@ -149,9 +159,13 @@ void selectHighGradientCells(const HeightGrid& grid, const HeightGrid* fill_sour
   float* height[3] = {rows.data(), rows.data() + n, rows.data() + 2 * n};
   float* has[3] = {rows.data() + 3 * n, rows.data() + 4 * n, rows.data() + 5 * n};
   float* const mag = rows.data() + 6 * n;
+  std::vector<std::uint8_t>& mask_row = mask_scratch;
+  mask_row.assign(n, 0);
+  std::uint8_t* const mask = mask_row.data();
   int slot_row[3] = {-1, -1, -1};
-  int mag_row = -1;
   const float k = static_cast<float>(0.5 / grid.resolution());
+  const float min_sq = static_cast<float>(params.min_gradient * params.min_gradient);
+  const std::uint8_t* measured = grid.validMask().data();
   auto pulled = [&](int r) {
     const int s = r % 3;
     if (slot_row[s] != r) {
@@ -160,7 +174,11 @@ void selectHighGradientCells(const HeightGrid& grid, const HeightGrid* fill_sour
     }
     return s;
   };
-  auto magnitudes = [&](int r) {
+  auto candidates = [&](int r) {
+    const std::uint8_t* __restrict__ row_measured = measured + r * n;
+    if (std::none_of(row_measured, row_measured + n, [](std::uint8_t v) { return v != 0; })) {
+      return row_measured;
+    }
     const int d = pulled(r - 1), m = pulled(r), u = pulled(r + 1);
     const float* __restrict__ hd = height[d];
     const float* __restrict__ hm = height[m];
@@ -178,12 +196,26 @@ void selectHighGradientCells(const HeightGrid& grid, const HeightGrid* fill_sour
       const float ok = okm[c - 1] * okm[c + 1] * okd[c] * oku[c];
       out[c] = ok * (gx * gx + gy * gy) + (ok - 1.0f);
     }
-    mag_row = r;
+    // Candidates: measured interior cells at the threshold (mask[0] and mask[cols - 1] stay 0).
+    int c = 1;
+#ifdef __SSE2__
+    const __m128 threshold = _mm_set1_ps(min_sq);
+    for (; c + 16 < cols; c += 16) {
+      const __m128i a = _mm_castps_si128(_mm_cmpge_ps(_mm_loadu_ps(out + c), threshold));
+      const __m128i b = _mm_castps_si128(_mm_cmpge_ps(_mm_loadu_ps(out + c + 4), threshold));
+      const __m128i e = _mm_castps_si128(_mm_cmpge_ps(_mm_loadu_ps(out + c + 8), threshold));
+      const __m128i f = _mm_castps_si128(_mm_cmpge_ps(_mm_loadu_ps(out + c + 12), threshold));
+      // 32-bit all-ones / zeros, narrowed to bytes with signed saturation (-1 stays -1).
+      const __m128i above = _mm_packs_epi16(_mm_packs_epi32(a, b), _mm_packs_epi32(e, f));
+      const __m128i cells_measured =
+          _mm_loadu_si128(reinterpret_cast<const __m128i*>(row_measured + c));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(mask + c), _mm_and_si128(above, cells_measured));
+    }
+#endif
+    for (; c + 1 < cols; ++c) mask[c] = row_measured[c] != 0 && out[c] >= min_sq ? 1 : 0;
+    return static_cast<const std::uint8_t*>(mask);
   };
-  select(grid, params, include_ground, cells, [&](int r, int c) {
-    if (r != mag_row) magnitudes(r);
-    return mag[c];
-  });
+  select(grid, params, include_ground, cells, candidates, [&](int, int c) { return mag[c]; });
 }
 
 }  // namespace dlo

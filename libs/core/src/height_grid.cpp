@@ -20,12 +20,17 @@ HeightGrid HeightGrid::fromPoints(const PointCloud& points, const GridGeometry& 
 
 namespace {
 
+/// Cells after the grid's own that rasterisation sends rejected points to (see CellMapper).
+constexpr size_t kDiscardCells = 4;
+
 /// The arithmetic half of rasterisation, kept apart from the scatter into cells so that it
 /// vectorises: which cell each point falls in and its height, for points mapped by a row-major
 /// 3 x 4 pose [R | t]. Points outside the grid or the height band (NaN fails every comparison)
-/// go to the discard cell after the grid's cells, so that the scatter has no branch on data:
+/// go to discard cells after the grid's cells, so that the scatter has no branch on data:
 /// which points fall outside is as good as random along a sweep (near and far rings
-/// interleave), and mispredicting it cost more than the rest of the loop.
+/// interleave), and mispredicting it cost more than the rest of the loop. There are
+/// kDiscardCells of them, point k going to number k % kDiscardCells: with a single one, the
+/// third of a sweep beyond the grid made one chain of dependent additions to the same address.
 class CellMapper {
  public:
   CellMapper(const GridGeometry& geometry, double min_z, double max_z)
@@ -62,7 +67,7 @@ class CellMapper {
       cells4(pose, px, py, pz, idx + k, z + k);
     }
 #endif
-    for (; k < n; ++k) cell1(m, q[3 * k], q[3 * k + 1], q[3 * k + 2], idx[k], z[k]);
+    for (; k < n; ++k) cell1(m, q[3 * k], q[3 * k + 1], q[3 * k + 2], k, idx[k], z[k]);
   }
 
   /// The same for weighted points; their weights go to w[0..n).
@@ -85,21 +90,23 @@ class CellMapper {
     }
 #endif
     for (; k < n; ++k) {
-      cell1(m, p[k].p.x(), p[k].p.y(), p[k].p.z(), idx[k], z[k]);
+      cell1(m, p[k].p.x(), p[k].p.y(), p[k].p.z(), k, idx[k], z[k]);
       w[k] = p[k].n;
     }
   }
 
  private:
   /// One point, scalar: the reference the vector code follows operation for operation.
-  void cell1(const RowMajorPose& m, float px, float py, float pz, int& idx, float& z) const {
+  void cell1(const RowMajorPose& m, float px, float py, float pz, size_t k, int& idx,
+             float& z) const {
     float x, y, h;
     m.apply(px, py, pz, x, y, h);
     const float u = (x - x0_) * inv_res_;
     const float v = (y - y0_) * inv_res_;
     // NaN fails every comparison; out-of-range floats are never converted to int.
     const bool inside = u >= 0.0f && u < cols_ && v >= 0.0f && v < rows_ && h >= zlo_ && h <= zhi_;
-    idx = inside ? static_cast<int>(v) * grid_cols_ + static_cast<int>(u) : discard_;
+    const int discard = discard_ + static_cast<int>(k % kDiscardCells);
+    idx = inside ? static_cast<int>(v) * grid_cols_ + static_cast<int>(u) : discard;
     z = h;
   }
 
@@ -141,15 +148,18 @@ class CellMapper {
                                             _mm_shuffle_epi32(odd, _MM_SHUFFLE(0, 0, 2, 0)));
     const __m128i cell = _mm_add_epi32(prod, col);
     const __m128i in = _mm_castps_si128(inside);
-    _mm_storeu_si128(
-        reinterpret_cast<__m128i*>(idx),
-        _mm_or_si128(_mm_and_si128(in, cell), _mm_andnot_si128(in, _mm_set1_epi32(discard_))));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(idx),
+                     _mm_or_si128(_mm_and_si128(in, cell), _mm_andnot_si128(in, discard4_)));
     _mm_storeu_ps(z, h);
   }
 #endif
 
   float inv_res_, x0_, y0_, cols_, rows_, zlo_, zhi_;
   int grid_cols_, discard_;
+#ifdef __SSE2__
+  /// The discard cells of lanes 0..3 (a group of four starts at a multiple of four).
+  __m128i discard4_ = _mm_add_epi32(_mm_set1_epi32(discard_), _mm_setr_epi32(0, 1, 2, 3));
+#endif
 };
 
 /// Points are mapped in batches of this many: small enough for the stack and the L1 cache.
@@ -301,7 +311,7 @@ void HeightGrid::poolFrom(const HeightGrid& finer) {
 }
 
 void HeightGrid::clearSums() {
-  const size_t n = static_cast<size_t>(geometry_.cellCount()) + 1;  // + the discard cell
+  const size_t n = static_cast<size_t>(geometry_.cellCount()) + kDiscardCells;
   count_.assign(n, 0u);
   sum_z_.assign(n, 0.0f);
 }

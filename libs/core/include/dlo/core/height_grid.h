@@ -132,8 +132,8 @@ class HeightGrid {
 
  private:
   int index(int row, int col) const { return row * geometry_.cols + col; }
-  /// Zeroes count_ and sum_z_ for geometry_: one entry per cell plus a last "discard" cell
-  /// that rasterisation sends rejected points to.
+  /// Zeroes count_ and sum_z_ for geometry_: one entry per cell plus a few last "discard"
+  /// cells that rasterisation sends rejected points to.
   void clearSums();
   void finalise();
 
