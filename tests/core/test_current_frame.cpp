@@ -140,6 +140,33 @@ TEST_F(CurrentOnlyFrame, DeskewMovesPointsByTheMotionOfTheirTime) {
   EXPECT_FALSE(SweepMotion(*times_, velocity_).fits(scan_->size() + 1));
 }
 
+TEST(SweepMotion, BinsOfManyTimesEqualTheBinOfEach) {
+  // Random times, the range's ends, halfway cases and a NaN; an odd count for the scalar tail.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> time(-0.05f, 0.05f);
+  std::vector<float> times(1003);
+  for (float& t : times) t = time(rng);
+  times[10] = -0.05f;
+  times[11] = 0.05f;
+  times[12] = std::numeric_limits<float>::quiet_NaN();
+  times[13] = 0.0f;
+  Vector6d velocity;
+  velocity << 10.0, 0.0, 0.0, 0.0, 0.0, 0.3;
+  for (int bins : {1, 7, 128}) {
+    const SweepMotion motion(times, velocity, bins);
+    std::vector<int> out(times.size(), -1);
+    motion.bins(times.data(), times.size(), out.data());
+    for (size_t i = 0; i < times.size(); ++i) {
+      ASSERT_EQ(out[i], motion.bin(times[i])) << "time " << times[i] << ", bins " << bins;
+      ASSERT_GE(out[i], 0);
+      ASSERT_LE(out[i], bins);
+    }
+    EXPECT_EQ(out[10], 0);
+    EXPECT_EQ(out[11], bins);
+    EXPECT_EQ(out[12], 0);  // a NaN time takes the first pose
+  }
+}
+
 TEST_F(CurrentOnlyFrame, PulledHeightsEqualTheFilledGrid) {
   const DloParams p;
   const GridGeometry geo = GridGeometry::centred(p.grid.cols, p.grid.rows, p.grid.resolution);

@@ -183,7 +183,7 @@ void rasteriseSweep(const PointCloud& points, const SweepMotion& motion,
       mapper.map(p, n, RowMajorPose(), idx, z);
     } else {
       const float* t = motion.times().data() + first;
-      for (size_t k = 0; k < n; ++k) bin[k] = motion.bin(t[k]);
+      motion.bins(t, n, bin);
       for (size_t k = 0; k < n;) {
         size_t end = k + 1;
         while (end < n && bin[end] == bin[k]) ++end;

@@ -65,6 +65,9 @@ class SweepMotion {
     const int i = static_cast<int>(f);
     return std::clamp(i + (f - static_cast<float>(i) >= 0.5f ? 1 : 0), 0, bins_);
   }
+  /// bin(t[k]) for k in [0, n), into out[0, n): the same bins, several at a time. Only valid
+  /// when !empty().
+  void bins(const float* t, size_t n, int* out) const;
   /// Number of time steps; bins() + 1 poses are tabulated.
   int bins() const { return bins_; }
   /// Per-point times (only valid when !empty()).
