@@ -35,42 +35,8 @@ struct NormalEquations {
   int n = 0;                 ///< inlier residuals
 };
 
-/// H (its upper triangle, column by column) and b summed in float over blocks of 256 cells (fast),
-/// and the blocks in double into `eq` (precise). The products are Eigen's rankUpdate(J, w) and
-/// (w e) J, in the same order, without the call.
-template <int N>
-class BlockSums {
- public:
-  explicit BlockSums(NormalEquations<N>& eq) : eq_(eq) {}
-
-  void add(const Eigen::Matrix<float, N, 1>& J, float w, float e) {
-    int k = 0;
-    for (int j = 0; j < N; ++j) {
-      const float wj = w * J(j);
-      for (int i = 0; i <= j; ++i) H_[k++] += wj * J(i);
-    }
-    const float we = w * e;
-    for (int i = 0; i < N; ++i) b_[i] += we * J(i);
-    if (++cells_ == 256) flush();
-  }
-
-  /// Adds the current block to the equations and starts a new one.
-  void flush() {
-    int k = 0;
-    for (int j = 0; j < N; ++j)
-      for (int i = 0; i <= j; ++i) eq_.H(i, j) += static_cast<double>(H_[k++]);
-    for (int i = 0; i < N; ++i) eq_.b(i) += static_cast<double>(b_[i]);
-    std::fill(std::begin(H_), std::end(H_), 0.0f);
-    std::fill(std::begin(b_), std::end(b_), 0.0f);
-    cells_ = 0;
-  }
-
- private:
-  NormalEquations<N>& eq_;
-  float H_[N * (N + 1) / 2] = {};
-  float b_[N] = {};
-  int cells_ = 0;
-};
+/// Cells whose H and b are summed in float before being added to the double sums.
+constexpr int kSumBlock = 256;
 
 template <int N>
 NormalEquations<N> linearise(const HeightSampler& sampler, const std::vector<SelectedCell>& cells,
@@ -83,26 +49,51 @@ NormalEquations<N> linearise(const HeightSampler& sampler, const std::vector<Sel
   // A cell that leaves the reference or becomes an outlier pays the cost of the largest inlier,
   // so that the cost cannot drop by pushing cells out of view.
   const float outlier_cost = delta * (max_e - 0.5f * delta);
-  BlockSums<N> block(eq);
   int lost = 0;
   float e = 0.0f;
   Eigen::Matrix<float, N, 1> J;
-  for (const SelectedCell& c : cells) {
-    const float ae = heightResidual<N>(sampler, c, R, t, e, J) ? std::fabs(e) : max_e + 1.0f;
-    if (ae > max_e) {
-      ++lost;
-      continue;
+  const size_t n = cells.size();
+  size_t k = 0;
+  bool more = true;
+  // H (its upper triangle, column by column) and b are summed in float over blocks of
+  // kSumBlock inlier cells (fast), and the blocks in double into `eq` (precise). The products
+  // are Eigen's rankUpdate(J, w) and (w e) J, in the same order, without the call. The block's
+  // sums are local arrays indexed by constants, which the compiler keeps in registers (as
+  // members of a helper object they were added to in memory, a store-to-load chain per cell).
+  // A full block is added at once and the rest (possibly nothing) at the end.
+  while (more) {
+    float H[N * (N + 1) / 2] = {};
+    float b[N] = {};
+    int added = 0;
+    for (; k < n && added < kSumBlock; ++k) {
+      const SelectedCell& c = cells[k];
+      const float ae = heightResidual<N>(sampler, c, R, t, e, J) ? std::fabs(e) : max_e + 1.0f;
+      if (ae > max_e) {
+        ++lost;
+        continue;
+      }
+      const bool inner = ae <= delta;
+      const float w = inner ? 1.0f : delta / ae;  // Huber
+      eq.cost += inner ? 0.5 * static_cast<double>(e * e)
+                       : static_cast<double>(delta * (ae - 0.5f * delta));
+      int h = 0;
+      for (int j = 0; j < N; ++j) {
+        const float wj = w * J(j);
+        for (int i = 0; i <= j; ++i) H[h++] += wj * J(i);
+      }
+      const float we = w * e;
+      for (int i = 0; i < N; ++i) b[i] += we * J(i);
+      ++added;
+      eq.weighted_sq += static_cast<double>(w * e * e);
+      eq.sq += static_cast<double>(e * e);
+      ++eq.n;
     }
-    const bool inner = ae <= delta;
-    const float w = inner ? 1.0f : delta / ae;  // Huber
-    eq.cost +=
-        inner ? 0.5 * static_cast<double>(e * e) : static_cast<double>(delta * (ae - 0.5f * delta));
-    block.add(J, w, e);
-    eq.weighted_sq += static_cast<double>(w * e * e);
-    eq.sq += static_cast<double>(e * e);
-    ++eq.n;
+    int h = 0;
+    for (int j = 0; j < N; ++j)
+      for (int i = 0; i <= j; ++i) eq.H(i, j) += static_cast<double>(H[h++]);
+    for (int i = 0; i < N; ++i) eq.b(i) += static_cast<double>(b[i]);
+    more = added == kSumBlock;
   }
-  block.flush();
   eq.cost += static_cast<double>(lost) * outlier_cost;
   eq.H = eq.H.template selfadjointView<Eigen::Upper>();
   return eq;
