@@ -334,25 +334,50 @@ void HeightGrid::finalise() {
   height_.resize(n);
   valid_.resize(n);
   // Signed counts throughout: SSE2 converts and compares signed integers in one instruction,
-  // unsigned ones not (a cell never holds 2^31 points). Raw restrict pointers and one output
-  // type per loop, so that both loops vectorise.
+  // unsigned ones not (a cell never holds 2^31 points).
   const std::int32_t need = std::max(min_points_, 1);
   const std::int32_t* __restrict__ cnt = reinterpret_cast<const std::int32_t*>(count_.data());
   const float* __restrict__ sum = sum_z_.data();
   float* __restrict__ height = height_.data();
   std::uint8_t* __restrict__ valid = valid_.data();
-  for (int i = 0; i < n; ++i) {
-    // Divided unconditionally, by 1 where the cell is invalid, and masked by a product, all
-    // with integer masks: the compiler does not speculate a division (it might trap), and
-    // turns any conditional it can see back into a branch around it, which keeps the loop
-    // scalar. "+ 0.0f" turns -0 into 0.
-    const std::int32_t ok = -static_cast<std::int32_t>(cnt[i] >= need);  // all ones if valid
-    const float mean = sum[i] / static_cast<float>((cnt[i] & ok) | (1 & ~ok));
-    height[i] = static_cast<float>(ok & 1) * mean + 0.0f;
-  }
   int valid_cells = 0;
-  for (int i = 0; i < n; ++i) {
-    valid[i] = cnt[i] >= need ? 1u : 0u;
+  int i = 0;
+#ifdef __SSE2__
+  // Sixteen cells at a time. Measured cells are a few percent of a grid, clustered: a group
+  // without one is written as zeros without dividing (the divisions over the whole grid were
+  // most of this function). Invalid lanes divide by 1 and are masked; "+ 0" turns -0 into 0.
+  const __m128i at_least = _mm_set1_epi32(need - 1);  // cnt > need - 1
+  const __m128i one = _mm_set1_epi32(1);
+  const __m128 zero = _mm_setzero_ps();
+  for (; i + 16 <= n; i += 16) {
+    __m128i c[4], ok[4];
+    for (int g = 0; g < 4; ++g) {
+      c[g] = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cnt + i + 4 * g));
+      ok[g] = _mm_cmpgt_epi32(c[g], at_least);  // all ones if valid
+    }
+    // -1 / 0 per cell, narrowed to bytes with signed saturation.
+    const __m128i flags =
+        _mm_packs_epi16(_mm_packs_epi32(ok[0], ok[1]), _mm_packs_epi32(ok[2], ok[3]));
+    const int bits = _mm_movemask_epi8(flags);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(valid + i), _mm_and_si128(flags, _mm_set1_epi8(1)));
+    if (bits == 0) {
+      for (int g = 0; g < 4; ++g) _mm_storeu_ps(height + i + 4 * g, zero);
+      continue;
+    }
+    valid_cells += __builtin_popcount(static_cast<unsigned>(bits));
+    for (int g = 0; g < 4; ++g) {
+      const __m128 divisor =
+          _mm_cvtepi32_ps(_mm_or_si128(_mm_and_si128(c[g], ok[g]), _mm_andnot_si128(ok[g], one)));
+      const __m128 mean = _mm_div_ps(_mm_loadu_ps(sum + i + 4 * g), divisor);
+      _mm_storeu_ps(height + i + 4 * g,
+                    _mm_add_ps(_mm_and_ps(_mm_castsi128_ps(ok[g]), mean), zero));
+    }
+  }
+#endif
+  for (; i < n; ++i) {
+    const bool ok = cnt[i] >= need;
+    height[i] = ok ? sum[i] / static_cast<float>(cnt[i]) + 0.0f : 0.0f;
+    valid[i] = ok ? 1u : 0u;
     valid_cells += valid[i];
   }
   valid_cells_ = valid_cells;
