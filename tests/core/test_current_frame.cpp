@@ -188,6 +188,19 @@ TEST_F(CurrentOnlyFrame, PulledHeightsEqualTheFilledGrid) {
       ASSERT_EQ(height[c], filled.height(r, c)) << r << ", " << c;
       pulled += raw.isValid(r, c) ? 0 : 1;
     }
+    // A range of columns gives the same values as the whole row (odd bounds on purpose).
+    std::vector<float> part_height(raw.cols(), -7.0f), part_has(raw.cols(), -7.0f);
+    raw.pulledRow(r, &source, part_height.data(), part_has.data(), scratch, 37, 251);
+    for (int c = 0; c < raw.cols(); ++c) {
+      if (c < 37 || c >= 251) {
+        ASSERT_EQ(part_height[c], -7.0f) << "column " << c << " outside the range was written";
+        continue;
+      }
+      ASSERT_EQ(part_has[c], has[c]) << r << ", " << c;
+      if (has[c] != 0.0f) {
+        ASSERT_EQ(part_height[c], height[c]) << r << ", " << c;
+      }
+    }
     // Without a source, a row has the grid's own heights only.
     raw.pulledRow(r, nullptr, height.data(), has.data(), scratch);
     for (int c = 0; c < raw.cols(); ++c) {

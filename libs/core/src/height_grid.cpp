@@ -413,16 +413,18 @@ void HeightGrid::preparePull(PullSource& out) const {
 
 namespace {
 
-/// The coarse level's interpolation for every cell of fine row `row` (`cols` cells), measured or
-/// not: value[c] = sum(w*s*h) / max(sum(w*s), 1/2) and ok[c] = 1 where sum(w*s) >= 1/2 (most
-/// of the interpolation weight is supported: no extrapolation far from data), else 0. Both
-/// point into `scratch`, valid until its next use. The same operations in the same order for
-/// every cell, vectorised four coarse columns (eight fine cells) at a time.
+/// The coarse level's interpolation for the cells of fine row `row` (`cols` cells) in columns
+/// [2 j0, 2 j1), j0 a multiple of 4, measured or not: value[c] = sum(w*s*h) / max(sum(w*s), 1/2)
+/// and ok[c] = 1 where sum(w*s) >= 1/2 (most of the interpolation weight is supported: no
+/// extrapolation far from data), else 0. Both are indexed by fine column and point into
+/// `scratch`, valid until its next use; whole vectors are computed, so a few columns past 2 j1
+/// are written too. The same operations in the same order for every cell, vectorised four
+/// coarse columns (eight fine cells) at a time.
 struct InterpolatedRow {
   const float* value;
   const float* ok;
 };
-InterpolatedRow interpolateRow(const PullSource& source, int row, int cols,
+InterpolatedRow interpolateRow(const PullSource& source, int row, int cols, int j0, int j1,
                                std::vector<float>& scratch) {
   const int pc = source.cols;
   const int half = (cols + 1) / 2;  // coarse columns; pc == half + 2
@@ -435,6 +437,9 @@ InterpolatedRow interpolateRow(const PullSource& source, int row, int cols,
   float* __restrict__ vh = vs + blend;
   float* __restrict__ value = vh + blend;
   float* __restrict__ ok = value + fine;
+  // Coarse pairs j0 .. j_end - 1 in whole vectors; they read blends j0 .. j_end + 1.
+  const int j_end = j0 + 4 * ((j1 - j0 + 3) / 4);
+  const int blend_end = std::min(pc, j_end + 2);
   // A fine cell centre lies a quarter of a coarse cell from the coarse centres around it, so
   // the bilinear weights are 3/4 and 1/4; its padded coarse cell is (r+1)/2, (c+1)/2. First the
   // two padded coarse rows around the fine row are blended.
@@ -442,19 +447,18 @@ InterpolatedRow interpolateRow(const PullSource& source, int row, int cols,
   const float b = (row % 2 == 0) ? 0.75f : 0.25f;
   const float* __restrict__ s0 = source.support.data() + static_cast<size_t>(pr0) * pc;
   const float* __restrict__ h0 = source.height.data() + static_cast<size_t>(pr0) * pc;
-  for (int j = 0; j < pc; ++j) {
+  for (int j = j0; j < blend_end; ++j) {
     vs[j] = (1 - b) * s0[j] + b * s0[j + pc];
     vh[j] = (1 - b) * h0[j] + b * h0[j + pc];
   }
-  std::fill(vs + pc, vs + blend, 0.0f);
-  std::fill(vh + pc, vh + blend, 0.0f);
+  for (int j = blend_end; j < j_end + 2; ++j) vs[j] = vh[j] = 0.0f;  // past the padded row
   // Then horizontally: fine column 2j lies 3/4 of the way from padded coarse column j to j + 1,
   // column 2j + 1 1/4 of the way from j + 1 to j + 2.
-  int j = 0;
+  int j = j0;
 #ifdef __SSE2__
   const __m128 quarter = _mm_set1_ps(0.25f), three = _mm_set1_ps(0.75f), half_w = _mm_set1_ps(0.5f);
   const __m128 one = _mm_set1_ps(1.0f);
-  for (; j < 4 * blocks; j += 4) {
+  for (; j < j_end; j += 4) {
     const __m128 s_a = _mm_loadu_ps(vs + j), s_b = _mm_loadu_ps(vs + j + 1),
                  s_c = _mm_loadu_ps(vs + j + 2);
     const __m128 h_a = _mm_loadu_ps(vh + j), h_b = _mm_loadu_ps(vh + j + 1),
@@ -474,7 +478,7 @@ InterpolatedRow interpolateRow(const PullSource& source, int row, int cols,
     _mm_storeu_ps(ok + 2 * j + 4, _mm_unpackhi_ps(ke, ko));
   }
 #endif
-  for (; j < 4 * blocks; ++j) {
+  for (; j < j_end; ++j) {
     const float we = 0.25f * vs[j] + 0.75f * vs[j + 1];
     const float wo = 0.75f * vs[j + 1] + 0.25f * vs[j + 2];
     value[2 * j] = (0.25f * vh[j] + 0.75f * vh[j + 1]) / std::max(we, 0.5f);
@@ -499,7 +503,7 @@ void HeightGrid::fillHolesFrom(const HeightGrid& coarser) {
   coarser.preparePull(source);
   const int cols = geometry_.cols;
   for (int r = 0; r < geometry_.rows; ++r) {
-    const InterpolatedRow pulled = interpolateRow(source, r, cols, scratch);
+    const InterpolatedRow pulled = interpolateRow(source, r, cols, 0, (cols + 1) / 2, scratch);
     const float* __restrict__ value = pulled.value;
     const float* __restrict__ ok = pulled.ok;
     float* __restrict__ hrow = height_.data() + static_cast<size_t>(r) * cols;
@@ -517,22 +521,27 @@ void HeightGrid::fillHolesFrom(const HeightGrid& coarser) {
 }
 
 void HeightGrid::pulledRow(int row, const PullSource* source, float* height, float* has,
-                           std::vector<float>& scratch) const {
+                           std::vector<float>& scratch, int first, int end) const {
   const int cols = geometry_.cols;
+  first = std::max(first, 0);
+  end = end < 0 ? cols : std::min(end, cols);
+  if (first >= end) return;
   const float* __restrict__ own = height_.data() + static_cast<size_t>(row) * cols;
   const std::uint8_t* __restrict__ sup = support_.data() + static_cast<size_t>(row) * cols;
   if (source == nullptr) {
-    for (int c = 0; c < cols; ++c) {
+    for (int c = first; c < end; ++c) {
       has[c] = static_cast<float>(sup[c]);
       height[c] = has[c] * own[c];
     }
     return;
   }
-  const InterpolatedRow pulled = interpolateRow(*source, row, cols, scratch);
+  // Coarse pairs from a multiple of four (whole vectors) to the one holding column end - 1.
+  const InterpolatedRow pulled =
+      interpolateRow(*source, row, cols, (first / 2) & ~3, (end + 1) / 2, scratch);
   const float* __restrict__ value = pulled.value;
   const float* __restrict__ ok = pulled.ok;
   // Arithmetic, to vectorise: a supported cell keeps its height exactly (s * own + 0 * value).
-  for (int c = 0; c < cols; ++c) {
+  for (int c = first; c < end; ++c) {
     const float s = static_cast<float>(sup[c]);
     height[c] = s * own[c] + (1.0f - s) * value[c];
     has[c] = s + (1.0f - s) * ok[c];

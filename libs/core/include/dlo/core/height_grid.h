@@ -100,9 +100,10 @@ class HeightGrid {
   /// meaningless), for every column c. Lets a scan that is only registered, never a reference,
   /// compute the gradients of its measured cells without filling its finest level. `source`
   /// comes from coarser.preparePull(), with isCoarserLevel(coarser) (unchecked), or is nullptr
-  /// for no filling. `scratch` is working memory, reused across calls.
+  /// for no filling. `scratch` is working memory, reused across calls. With `first` and `end`,
+  /// only columns [first, end) are computed and written (end < 0: to the last column).
   void pulledRow(int row, const PullSource* source, float* height, float* has,
-                 std::vector<float>& scratch) const;
+                 std::vector<float>& scratch, int first = 0, int end = -1) const;
   /// True when `coarser` has this grid's coarser() geometry (what fillHolesFrom() requires).
   bool isCoarserLevel(const HeightGrid& coarser) const;
 
