@@ -89,7 +89,8 @@ LoopCandidate LoopCloser::verify(const SlamMap& map, int from_id, int to_id,
     }
   }
   const bool ground = grid_.includeGround();
-  HeightFrame ref, cur;
+  HeightFrame& ref = ref_;
+  HeightFrame& cur = cur_;
   ref.build(from_cloud, Eigen::Isometry3d::Identity(), grid_.grid, grid_.selection, ground);
   cur.build(to_cloud, Eigen::Isometry3d::Identity(), grid_.grid, grid_.selection, ground);
   if (ref.empty() || cur.empty()) {
@@ -109,7 +110,8 @@ std::vector<Eigen::Isometry3d> LoopCloser::searchBasins(const WeightedCloud& fro
                                                         const Eigen::Isometry3d& guess) const {
   const LoopParams& l = params_.loop;
   const bool ground = grid_.includeGround();
-  HeightFrame ref_coarse, cur_coarse;
+  HeightFrame& ref_coarse = ref_coarse_;
+  HeightFrame& cur_coarse = cur_coarse_;
   // Drift puts the guess metres and degrees off, beyond the basin of one registration: search
   // a lattice of starts on a coarse grid first, and keep the best-fitting basin.
   DloParams coarse = grid_;

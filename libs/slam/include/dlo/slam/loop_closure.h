@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "dlo/core/direct_aligner.h"
+#include "dlo/core/height_frame.h"
 #include "dlo/slam/slam_map.h"
 #include "dlo/slam/slam_params.h"
 
@@ -55,6 +56,10 @@ class LoopCloser {
 
   SlamParams params_;
   DloParams grid_;  ///< the registration parameters at the verification resolution
+  /// The verification's frames, rebuilt in place for every candidate: allocated afresh, their
+  /// megabytes of grids and gradient fields cost page faults at every verification. Scratch
+  /// only (a LoopCloser is used from one thread).
+  mutable HeightFrame ref_, cur_, ref_coarse_, cur_coarse_;
 };
 
 }  // namespace dlo
