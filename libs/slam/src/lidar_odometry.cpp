@@ -17,17 +17,30 @@ constexpr size_t kSettledVelocityUpdates = 5;
 
 /// Points within `range` metres (horizontally) of the vehicle, what a keyframe keeps, into
 /// `out`: moved by `motion` if it fits them, in the same pass (a deskewed copy of the whole
-/// sweep first cost a pass and a megabyte more per keyframe).
+/// sweep first cost a pass and a megabyte more per keyframe). The bins of a batch of points
+/// are found together (SweepMotion::bins), as the rasterisation does.
 void nearPoints(const PointCloud& points, const SweepMotion& motion, double range,
                 PointCloud& out) {
-  out.clear();
-  out.reserve(points.size());
+  out.resize(points.size());  // at most every point; cut to those kept at the end
   const float r2 = static_cast<float>(range * range);
-  const bool moving = motion.fits(points.size());
-  for (size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3f p = moving ? motion.apply(i, points[i]) : points[i];
-    if (p.head<2>().squaredNorm() <= r2) out.push_back(p);
+  size_t kept = 0;
+  if (!motion.fits(points.size())) {
+    for (const Eigen::Vector3f& p : points) {
+      if (p.head<2>().squaredNorm() <= r2) out[kept++] = p;
+    }
+  } else {
+    constexpr size_t kBatch = 256;
+    int bin[kBatch];
+    for (size_t first = 0; first < points.size(); first += kBatch) {
+      const size_t n = std::min(kBatch, points.size() - first);
+      motion.bins(motion.times().data() + first, n, bin);
+      for (size_t k = 0; k < n; ++k) {
+        const Eigen::Vector3f p = motion.pose(bin[k]) * points[first + k];
+        if (p.head<2>().squaredNorm() <= r2) out[kept++] = p;
+      }
+    }
   }
+  out.resize(kept);
 }
 }  // namespace
 
