@@ -286,6 +286,18 @@ AlignmentResult alignImpl(const SolverParams& p, const HeightFrame& reference,
     res.pose = T;
     return res;
   }
+  {
+    // The finest level's reads of the reference are a cache miss each in a grid of megabytes,
+    // and the finest level comes last: ask for them now, while the coarse levels iterate
+    // (the estimate moves by centimetres, mostly within the same lines).
+    const HeightSampler& finest = reference.levels()[0].sampler;
+    const Eigen::Matrix3f R = T.linear().cast<float>();
+    const Eigen::Vector3f t = T.translation().cast<float>();
+    for (const SelectedCell& c : current.levels()[0].cells) {
+      const Eigen::Vector3f q = R * Eigen::Vector3f(c.x, c.y, c.h) + t;
+      finest.prefetch(q.x(), q.y());
+    }
+  }
   if constexpr (N == 6) {
     // Far from the solution, freeing z, roll and pitch lets walls be "explained" by tilting
     // the ground; settle x, y and yaw on the coarse levels first.

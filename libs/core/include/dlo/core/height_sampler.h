@@ -62,6 +62,16 @@ class HeightSampler {
     return true;
   }
 
+  /// Asks for the cache lines sample(x, y) reads, for a sample() later; a hint only.
+  void prefetch(double x, double y) const {
+    const double u = (x - geometry_.x_min) * inv_resolution_ - 0.5;
+    const double v = (y - geometry_.y_min) * inv_resolution_ - 0.5;
+    if (!(u >= 0.0 && v >= 0.0 && u < geometry_.cols - 1 && v < geometry_.rows - 1)) return;
+    const GradientCell* p0 =
+        &field_.cells[static_cast<int>(v) * geometry_.cols + static_cast<int>(u)];
+    __builtin_prefetch(p0);
+    __builtin_prefetch(p0 + geometry_.cols);
+  }
   /// Recomputes the gradients of `grid` in place, reusing this sampler's memory.
   void rebuild(const HeightGrid& grid) {
     geometry_ = grid.geometry();
