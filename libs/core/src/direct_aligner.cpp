@@ -287,15 +287,18 @@ AlignmentResult alignImpl(const SolverParams& p, const HeightFrame& reference,
     return res;
   }
   {
-    // The finest level's reads of the reference are a cache miss each in a grid of megabytes,
-    // and the finest level comes last: ask for them now, while the coarse levels iterate
-    // (the estimate moves by centimetres, mostly within the same lines).
-    const HeightSampler& finest = reference.levels()[0].sampler;
+    // The reference's reads are a cache miss each in grids of megabytes (reading the next scan
+    // of a rawlog evicts them): ask for the lines of every level below the coarsest now, in
+    // the order they will be used, while the coarsest iterates (the estimate moves by
+    // centimetres, mostly within the same lines).
     const Eigen::Matrix3f R = T.linear().cast<float>();
     const Eigen::Vector3f t = T.translation().cast<float>();
-    for (const SelectedCell& c : current.levels()[0].cells) {
-      const Eigen::Vector3f q = R * Eigen::Vector3f(c.x, c.y, c.h) + t;
-      finest.prefetch(q.x(), q.y());
+    for (int level = levels - 2; level >= 0; --level) {
+      const HeightSampler& sampler = reference.levels()[level].sampler;
+      for (const SelectedCell& c : current.levels()[level].cells) {
+        const Eigen::Vector3f q = R * Eigen::Vector3f(c.x, c.y, c.h) + t;
+        sampler.prefetch(q.x(), q.y());
+      }
     }
   }
   if constexpr (N == 6) {
