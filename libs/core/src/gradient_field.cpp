@@ -1,5 +1,7 @@
 #include "dlo/core/gradient_field.h"
 
+#include <algorithm>
+
 namespace dlo {
 
 GradientField computeGradients(const HeightGrid& grid) {
@@ -12,7 +14,17 @@ void computeGradients(const HeightGrid& grid, GradientField& f) {
   f.cols = grid.cols();
   f.rows = grid.rows();
   const int cols = f.cols;
-  f.cells.assign(static_cast<size_t>(cols) * f.rows, GradientCell{0.0f, 0.0f, 0.0f, 0.0f});
+  // Every interior cell is written below: only the border is zeroed (assigning zeros to the
+  // whole field first wrote its megabytes twice).
+  const GradientCell none{0.0f, 0.0f, 0.0f, 0.0f};
+  f.cells.resize(static_cast<size_t>(cols) * f.rows);
+  if (f.cells.empty()) return;
+  std::fill_n(f.cells.begin(), cols, none);
+  std::fill_n(f.cells.end() - cols, cols, none);
+  for (int r = 1; r + 1 < f.rows; ++r) {
+    f.cells[static_cast<size_t>(r) * cols] = none;
+    f.cells[static_cast<size_t>(r) * cols + cols - 1] = none;
+  }
   const float k = static_cast<float>(0.5 / grid.resolution());
   const float* h = grid.heights().data();
   const std::uint8_t* ok = grid.supportMask().data();

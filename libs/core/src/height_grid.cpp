@@ -492,9 +492,12 @@ void HeightGrid::preparePull(PullSource& out) const {
     float* __restrict__ srow = s + (r + 1) * out.cols;
     float* __restrict__ hrow = h + (r + 1) * out.cols;
     srow[0] = hrow[0] = srow[g.cols + 1] = hrow[g.cols + 1] = 0.0f;
+    // Arithmetic, to vectorise: a cell without support has height 0 (finalise() and
+    // fillHolesFrom() leave it so), and 1 * h is h exactly.
     for (int c = 0; c < g.cols; ++c) {
-      srow[c + 1] = sup[c] ? 1.0f : 0.0f;
-      hrow[c + 1] = sup[c] ? hr[c] : 0.0f;
+      const float sc = static_cast<float>(sup[c]);
+      srow[c + 1] = sc;
+      hrow[c + 1] = sc * hr[c];
     }
   }
 }
