@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "dlo/core/height_grid.h"
+#include "dlo/core/weighted_cloud.h"
 
 namespace dlo {
 namespace {
@@ -183,6 +184,9 @@ TEST(HeightGrid, RasterisationPutsEveryPointInTheCellOfItsCoordinates) {
       if (i % 97 == 5) pts[i].x() = std::numeric_limits<float>::quiet_NaN();
     }
     const HeightGrid g = HeightGrid::fromPoints(pts, geo, 1, -1.5, 1.5);
+    // The weighted path (keyframes, local maps) with unit weights and no motion: the same.
+    HeightGrid weighted;
+    weighted.rasterise(unitWeights(pts), Eigen::Isometry3d::Identity(), geo, 1, -1.5, 1.5);
     std::vector<std::uint32_t> n(static_cast<size_t>(geo.cellCount()), 0u);
     std::vector<float> sum(n.size(), 0.0f);
     const float x0 = static_cast<float>(geo.x_min), y0 = static_cast<float>(geo.y_min);
@@ -201,8 +205,10 @@ TEST(HeightGrid, RasterisationPutsEveryPointInTheCellOfItsCoordinates) {
       for (int c = 0; c < geo.cols; ++c) {
         const size_t cell = static_cast<size_t>(r * geo.cols + c);
         ASSERT_EQ(g.count(r, c), n[cell]) << count << " points, cell " << r << ", " << c;
+        ASSERT_EQ(weighted.count(r, c), n[cell]) << count << " points, cell " << r << ", " << c;
         if (n[cell] > 0) {
           ASSERT_EQ(g.height(r, c), sum[cell] / static_cast<float>(n[cell]) + 0.0f);
+          ASSERT_EQ(weighted.height(r, c), g.height(r, c));
         }
       }
     }

@@ -95,6 +95,9 @@ class CellMapper {
     static_assert(sizeof(WeightedPoint) == 4 * sizeof(float), "x y z n, packed");
     const float* __restrict__ q = p->p.data();
     size_t k = 0;
+#ifdef DLO_X86_DISPATCH
+    if (hasAvx2()) k = map8(q, n, m, idx, z, w);
+#endif
 #ifdef __SSE2__
     const Pose4 pose(m);
     for (; k + 4 <= n; k += 4) {
@@ -185,14 +188,6 @@ class CellMapper {
                                               float* __restrict__ z) const {
     __m256 r[12];
     for (int i = 0; i < 12; ++i) r[i] = _mm256_set1_ps(m.m[i]);
-    const __m256 x0 = _mm256_set1_ps(x0_), y0 = _mm256_set1_ps(y0_), inv = _mm256_set1_ps(inv_res_);
-    const __m256 zero = _mm256_setzero_ps(), cols_f = _mm256_set1_ps(cols_),
-                 rows_f = _mm256_set1_ps(rows_), zlo = _mm256_set1_ps(zlo_),
-                 zhi = _mm256_set1_ps(zhi_);
-    const __m256i cols_i = _mm256_set1_epi32(grid_cols_);
-    const __m256i discard =
-        _mm256_add_epi32(_mm256_set1_epi32(discard_), _mm256_setr_epi32(0, 1, 2, 3, 0, 1, 2, 3));
-    // (Lambdas would not inherit the target attribute: everything is written out.)
     size_t k = 0;
     for (; k + 8 <= n; k += 8) {
       _mm_prefetch(reinterpret_cast<const char*>(q + 3 * k + 768), _MM_HINT_T0);
@@ -211,38 +206,85 @@ class CellMapper {
       const __m256 pz = _mm256_shuffle_ps(_mm256_shuffle_ps(a, b, _MM_SHUFFLE(1, 1, 2, 2)),
                                           _mm256_shuffle_ps(c, c, _MM_SHUFFLE(3, 3, 0, 0)),
                                           _MM_SHUFFLE(2, 0, 2, 0));
-      // Each row of the pose summed left to right, as RowMajorPose::apply().
-      const __m256 x = _mm256_add_ps(
-          _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(r[0], px), _mm256_mul_ps(r[1], py)),
-                        _mm256_mul_ps(r[2], pz)),
-          r[3]);
-      const __m256 y = _mm256_add_ps(
-          _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(r[4], px), _mm256_mul_ps(r[5], py)),
-                        _mm256_mul_ps(r[6], pz)),
-          r[7]);
-      const __m256 h = _mm256_add_ps(
-          _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(r[8], px), _mm256_mul_ps(r[9], py)),
-                        _mm256_mul_ps(r[10], pz)),
-          r[11]);
-      const __m256 u = _mm256_mul_ps(_mm256_sub_ps(x, x0), inv);
-      const __m256 v = _mm256_mul_ps(_mm256_sub_ps(y, y0), inv);
-      // Ordered compares: false for NaN.
-      const __m256 inside = _mm256_and_ps(
-          _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(u, zero, _CMP_GE_OQ),
-                                      _mm256_cmp_ps(u, cols_f, _CMP_LT_OQ)),
-                        _mm256_and_ps(_mm256_cmp_ps(v, zero, _CMP_GE_OQ),
-                                      _mm256_cmp_ps(v, rows_f, _CMP_LT_OQ))),
-          _mm256_and_ps(_mm256_cmp_ps(h, zlo, _CMP_GE_OQ), _mm256_cmp_ps(h, zhi, _CMP_LE_OQ)));
-      const __m256i col = _mm256_cvttps_epi32(_mm256_and_ps(inside, u));
-      const __m256i rr = _mm256_cvttps_epi32(_mm256_and_ps(inside, v));
-      const __m256i cell = _mm256_add_epi32(_mm256_mullo_epi32(rr, cols_i), col);
-      const __m256i in = _mm256_castps_si256(inside);
-      _mm256_storeu_si256(
-          reinterpret_cast<__m256i*>(idx + k),
-          _mm256_or_si256(_mm256_and_si256(in, cell), _mm256_andnot_si256(in, discard)));
-      _mm256_storeu_ps(z + k, h);
+      cells8(r, px, py, pz, idx + k, z + k);
     }
     return k;
+  }
+
+  /// The same for weighted points (x y z n rows, transposed eight at a time); their weights go
+  /// to w.
+  __attribute__((target("avx2"))) size_t map8(const float* __restrict__ q, size_t n,
+                                              const RowMajorPose& m, int* __restrict__ idx,
+                                              float* __restrict__ z,
+                                              std::uint32_t* __restrict__ w) const {
+    __m256 r[12];
+    for (int i = 0; i < 12; ++i) r[i] = _mm256_set1_ps(m.m[i]);
+    size_t k = 0;
+    for (; k + 8 <= n; k += 8) {
+      _mm_prefetch(reinterpret_cast<const char*>(q + 4 * k + 1024), _MM_HINT_T0);
+      const float* at = q + 4 * k;
+      // Rows k..k+3 in the low halves, k+4..k+7 in the high ones; then _MM_TRANSPOSE4_PS in
+      // each half.
+      const __m256 r0 =
+          _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(at)), _mm_loadu_ps(at + 16), 1);
+      const __m256 r1 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(at + 4)),
+                                             _mm_loadu_ps(at + 20), 1);
+      const __m256 r2 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(at + 8)),
+                                             _mm_loadu_ps(at + 24), 1);
+      const __m256 r3 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(at + 12)),
+                                             _mm_loadu_ps(at + 28), 1);
+      const __m256 t0 = _mm256_unpacklo_ps(r0, r1), t1 = _mm256_unpacklo_ps(r2, r3);
+      const __m256 t2 = _mm256_unpackhi_ps(r0, r1), t3 = _mm256_unpackhi_ps(r2, r3);
+      const __m256 px = _mm256_shuffle_ps(t0, t1, _MM_SHUFFLE(1, 0, 1, 0));
+      const __m256 py = _mm256_shuffle_ps(t0, t1, _MM_SHUFFLE(3, 2, 3, 2));
+      const __m256 pz = _mm256_shuffle_ps(t2, t3, _MM_SHUFFLE(1, 0, 1, 0));
+      const __m256 pn = _mm256_shuffle_ps(t2, t3, _MM_SHUFFLE(3, 2, 3, 2));
+      cells8(r, px, py, pz, idx + k, z + k);
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(w + k), _mm256_castps_si256(pn));
+    }
+    return k;
+  }
+
+  /// cells4() for eight points: the same operations lane by lane.
+  __attribute__((target("avx2"))) void cells8(const __m256* r, __m256 px, __m256 py, __m256 pz,
+                                              int* idx, float* z) const {
+    // Each row of the pose summed left to right, as RowMajorPose::apply().
+    const __m256 x =
+        _mm256_add_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(r[0], px), _mm256_mul_ps(r[1], py)),
+                                    _mm256_mul_ps(r[2], pz)),
+                      r[3]);
+    const __m256 y =
+        _mm256_add_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(r[4], px), _mm256_mul_ps(r[5], py)),
+                                    _mm256_mul_ps(r[6], pz)),
+                      r[7]);
+    const __m256 h =
+        _mm256_add_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(r[8], px), _mm256_mul_ps(r[9], py)),
+                                    _mm256_mul_ps(r[10], pz)),
+                      r[11]);
+    const __m256 x0 = _mm256_set1_ps(x0_), y0 = _mm256_set1_ps(y0_), inv = _mm256_set1_ps(inv_res_);
+    const __m256 zero = _mm256_setzero_ps(), cols_f = _mm256_set1_ps(cols_),
+                 rows_f = _mm256_set1_ps(rows_), zlo = _mm256_set1_ps(zlo_),
+                 zhi = _mm256_set1_ps(zhi_);
+    const __m256i cols_i = _mm256_set1_epi32(grid_cols_);
+    const __m256i discard =
+        _mm256_add_epi32(_mm256_set1_epi32(discard_), _mm256_setr_epi32(0, 1, 2, 3, 0, 1, 2, 3));
+    const __m256 u = _mm256_mul_ps(_mm256_sub_ps(x, x0), inv);
+    const __m256 v = _mm256_mul_ps(_mm256_sub_ps(y, y0), inv);
+    // Ordered compares: false for NaN.
+    const __m256 inside = _mm256_and_ps(
+        _mm256_and_ps(
+            _mm256_and_ps(_mm256_cmp_ps(u, zero, _CMP_GE_OQ), _mm256_cmp_ps(u, cols_f, _CMP_LT_OQ)),
+            _mm256_and_ps(_mm256_cmp_ps(v, zero, _CMP_GE_OQ),
+                          _mm256_cmp_ps(v, rows_f, _CMP_LT_OQ))),
+        _mm256_and_ps(_mm256_cmp_ps(h, zlo, _CMP_GE_OQ), _mm256_cmp_ps(h, zhi, _CMP_LE_OQ)));
+    const __m256i col = _mm256_cvttps_epi32(_mm256_and_ps(inside, u));
+    const __m256i rr = _mm256_cvttps_epi32(_mm256_and_ps(inside, v));
+    const __m256i cell = _mm256_add_epi32(_mm256_mullo_epi32(rr, cols_i), col);
+    const __m256i in = _mm256_castps_si256(inside);
+    _mm256_storeu_si256(
+        reinterpret_cast<__m256i*>(idx),
+        _mm256_or_si256(_mm256_and_si256(in, cell), _mm256_andnot_si256(in, discard)));
+    _mm256_storeu_ps(z, h);
   }
 #endif
 
