@@ -240,6 +240,32 @@ TEST_F(CurrentOnlyFrame, SelectsTheSameCellsAsAFullFrameOfTheDeskewedScan) {
   }
 }
 
+TEST_F(CurrentOnlyFrame, SelectsTheSameCellsInAGridOfMoreThan1024Columns) {
+  // Wide grids take wider chunks of columns in the current-only selection: the columns past
+  // 1024 must still be selected like a full frame selects them.
+  DloParams p;
+  p.grid.cols = 1500;
+  p.grid.rows = 200;
+  p.grid.resolution = 0.1;
+  const SweepMotion motion(*times_, velocity_);
+  HeightFrame current;
+  current.build(*scan_, motion, p.grid, p.selection, false, FrameUse::kCurrentOnly);
+  const HeightFrame full =
+      HeightFrame::fromPoints(deskew(*scan_, motion), p.grid, p.selection, false);
+  const std::vector<SelectedCell>& a = current.levels().front().cells;
+  const std::vector<SelectedCell>& b = full.levels().front().cells;
+  ASSERT_EQ(a.size(), b.size());
+  const float far_x = static_cast<float>(-0.5 * p.grid.cols * p.grid.resolution + 102.4);
+  int beyond = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].x, b[i].x);
+    EXPECT_EQ(a[i].y, b[i].y);
+    EXPECT_EQ(a[i].h, b[i].h);
+    beyond += a[i].x > far_x ? 1 : 0;
+  }
+  EXPECT_GT(beyond, 10);  // cells in columns past 1024
+}
+
 TEST_F(CurrentOnlyFrame, CannotServeAsAReference) {
   const DloParams p;
   HeightFrame current;

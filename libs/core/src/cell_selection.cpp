@@ -150,14 +150,16 @@ void selectHighGradientCells(const HeightGrid& grid, const HeightGrid* fill_sour
   const PullSource* pull = fill_source != nullptr ? &source : nullptr;
   // Heights and "has a height" flags of three consecutive rows, as fillHolesFrom(fill_source)
   // would leave them (row r in slot r % 3), the squared gradient magnitudes of the row being
-  // selected and its candidates (measured cells at the threshold or above): computed a chunk of
-  // kChunk columns at a time, vectorised, and only around measured cells (at 0.1 m an HDL-64
-  // scan has measured cells in about a third of the chunks), so that the per-cell part of the
-  // selection only sees the few cells on edges.
-  constexpr int kChunk = 16;
+  // selected and its candidates (measured cells at the threshold or above): computed in chunks
+  // of columns, vectorised, and only around measured cells (at 0.1 m an HDL-64 scan has measured
+  // cells in about a third of the chunks), so that the per-cell part of the selection only sees
+  // the few cells on edges.
   const int cols = grid.cols();
   const size_t n = static_cast<size_t>(cols);
-  const int chunks = (cols + kChunk - 1) / kChunk;
+  // 16 columns (one SSE pass of the interpolation and the candidate mask), wider in grids of
+  // more than 1024 columns, so that a row's chunks fit the bits of one 64-bit word.
+  const int chunk = std::max(16, ((cols + 63) / 64 + 15) / 16 * 16);
+  const int chunks = (cols + chunk - 1) / chunk;
   std::vector<float>& rows = rows_scratch;
   rows.resize(7 * n);
   float* height[3] = {rows.data(), rows.data() + n, rows.data() + 2 * n};
@@ -166,20 +168,20 @@ void selectHighGradientCells(const HeightGrid& grid, const HeightGrid* fill_sour
   std::vector<std::uint8_t>& mask_row = mask_scratch;
   mask_row.assign(n, 0);
   std::uint8_t* const mask = mask_row.data();
-  // Chunks with measured cells, one bit each per row (all set when a row has more than 64
-  // chunks), and the chunks whose heights a row needs: its own and its neighbours' (vertical
-  // differences) and one chunk either side of its own (horizontal differences at the edges).
+  // Chunks with measured cells, one bit each per row, and the chunks whose heights a row needs:
+  // its own and its neighbours' (vertical differences) and one chunk either side of its own
+  // (horizontal differences at the edges).
   const int rows_n = grid.rows();
   const std::uint8_t* measured = grid.validMask().data();
   std::vector<std::uint64_t>& own_scratch = chunk_scratch;
   own_scratch.assign(static_cast<size_t>(rows_n), 0);
   std::uint64_t* const own = own_scratch.data();
-  const std::uint64_t all = chunks >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << chunks) - 1;
+  const std::uint64_t all = chunks == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << chunks) - 1;
   for (int r = 0; r < rows_n; ++r) {
     const std::uint8_t* row = measured + r * n;
     std::uint64_t bits = 0;
-    for (int ch = 0; ch < chunks && ch < 64; ++ch) {
-      const int c0 = ch * kChunk, c1 = std::min(cols, c0 + kChunk);
+    for (int ch = 0; ch < chunks; ++ch) {
+      const int c0 = ch * chunk, c1 = std::min(cols, c0 + chunk);
       std::uint64_t word = 0;
       int c = c0;
       for (; c + 8 <= c1; c += 8) {
@@ -191,7 +193,7 @@ void selectHighGradientCells(const HeightGrid& grid, const HeightGrid* fill_sour
       if (word != 0) bits |= std::uint64_t{1} << ch;
     }
     // Without filling, a row's heights are a plain copy: whole rows cost less than chunks.
-    own[r] = (chunks > 64 || pull == nullptr) && bits != 0 ? all : bits;
+    own[r] = pull == nullptr && bits != 0 ? all : bits;
   }
   auto needed = [&](int r) {
     const std::uint64_t o = own[r];
@@ -217,7 +219,7 @@ void selectHighGradientCells(const HeightGrid& grid, const HeightGrid* fill_sour
     const int s = r % 3;
     if (slot_row[s] != r) {
       forEachRun(needed(r), [&](int a, int b) {
-        grid.pulledRow(r, pull, height[s], has[s], interpolation, a * kChunk, b * kChunk);
+        grid.pulledRow(r, pull, height[s], has[s], interpolation, a * chunk, b * chunk);
       });
       slot_row[s] = r;
     }
@@ -237,7 +239,7 @@ void selectHighGradientCells(const HeightGrid& grid, const HeightGrid* fill_sour
     std::fill(mask, mask + n, 0);
     forEachRun(own[r], [&](int a, int b) {
       // Interior columns only: the first and last have no left or right neighbour.
-      const int c0 = std::max(1, a * kChunk), c1 = std::min(cols - 1, b * kChunk);
+      const int c0 = std::max(1, a * chunk), c1 = std::min(cols - 1, b * chunk);
       for (int c = c0; c < c1; ++c) {
         // computeGradients()'s central differences, in the same order of operations.
         const float gx = (hm[c + 1] - hm[c - 1]) * k;

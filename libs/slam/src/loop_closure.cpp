@@ -43,6 +43,22 @@ LoopCloser::LoopCloser(const SlamParams& params) : params_(params), grid_(params
   }
   grid_.grid.levels = levels;
   grid_.selection.block_size = 1;
+  coarse_ = grid_;
+  coarse_.grid.resolution = kSearchResolution;
+  coarse_.grid.cols = coarse_.grid.rows =
+      static_cast<int>(std::lround(l.window / kSearchResolution));
+  coarse_.grid.levels = 1;
+  if (l.enabled != 0) {
+    // The verification's frames take their memory now, once (tens of megabytes at the default
+    // window): a fixed working set from the start rather than a step at the first loop.
+    const WeightedCloud none;
+    const Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
+    const bool ground = grid_.includeGround();
+    ref_.build(none, origin, grid_.grid, grid_.selection, ground);
+    cur_.build(none, origin, grid_.grid, grid_.selection, ground);
+    ref_coarse_.build(none, origin, coarse_.grid, coarse_.selection, ground);
+    cur_coarse_.build(none, origin, coarse_.grid, coarse_.selection, ground);
+  }
 }
 
 std::vector<int> LoopCloser::candidates(const SlamMap& map, int newest,
@@ -108,16 +124,12 @@ LoopCandidate LoopCloser::verify(const SlamMap& map, int from_id, int to_id,
 std::vector<Eigen::Isometry3d> LoopCloser::searchBasins(const WeightedCloud& from_cloud,
                                                         const WeightedCloud& to_cloud,
                                                         const Eigen::Isometry3d& guess) const {
-  const LoopParams& l = params_.loop;
   const bool ground = grid_.includeGround();
   HeightFrame& ref_coarse = ref_coarse_;
   HeightFrame& cur_coarse = cur_coarse_;
   // Drift puts the guess metres and degrees off, beyond the basin of one registration: search
   // a lattice of starts on a coarse grid first, and keep the best-fitting basin.
-  DloParams coarse = grid_;
-  coarse.grid.resolution = kSearchResolution;
-  coarse.grid.cols = coarse.grid.rows = static_cast<int>(std::lround(l.window / kSearchResolution));
-  coarse.grid.levels = 1;
+  const DloParams& coarse = coarse_;
   ref_coarse.build(from_cloud, Eigen::Isometry3d::Identity(), coarse.grid, coarse.selection,
                    ground);
   cur_coarse.build(to_cloud, Eigen::Isometry3d::Identity(), coarse.grid, coarse.selection, ground);

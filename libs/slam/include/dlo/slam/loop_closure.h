@@ -55,10 +55,12 @@ class LoopCloser {
              const Eigen::Isometry3d& guess, LoopCandidate& c, PoseEdge& edge) const;
 
   SlamParams params_;
-  DloParams grid_;  ///< the registration parameters at the verification resolution
-  /// The verification's frames, rebuilt in place for every candidate: allocated afresh, their
-  /// megabytes of grids and gradient fields cost page faults at every verification. Scratch
-  /// only (a LoopCloser is used from one thread).
+  DloParams grid_;    ///< the registration parameters at the verification resolution
+  DloParams coarse_;  ///< those of the lattice search's coarse grid
+  /// The verification's frames, allocated by the constructor (when loops are enabled) and
+  /// rebuilt in place for every candidate: allocated afresh, their megabytes of grids and
+  /// gradient fields cost page faults at every verification. Scratch only (a LoopCloser is
+  /// used from one thread).
   mutable HeightFrame ref_, cur_, ref_coarse_, cur_coarse_;
 };
 
