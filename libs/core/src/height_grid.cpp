@@ -43,7 +43,8 @@ bool hasAvx2() {
 /// which points fall outside is as good as random along a sweep (near and far rings
 /// interleave), and mispredicting it cost more than the rest of the loop. There are
 /// kDiscardCells of them, point k going to number k % kDiscardCells: with a single one, the
-/// third of a sweep beyond the grid made one chain of dependent additions to the same address.
+/// sixth of an HDL-64 sweep beyond the grid made one chain of dependent additions to the same
+/// address.
 class CellMapper {
  public:
   CellMapper(const GridGeometry& geometry, double min_z, double max_z)
