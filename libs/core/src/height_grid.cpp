@@ -179,6 +179,14 @@ class CellMapper {
 #endif
 
 #ifdef DLO_X86_DISPATCH
+  /// The pose broadcast into 256-bit vectors (Pose4 for AVX2).
+  struct Pose8 {
+    __attribute__((target("avx2"))) explicit Pose8(const RowMajorPose& m) {
+      for (int i = 0; i < 12; ++i) r[i] = _mm256_set1_ps(m.m[i]);
+    }
+    __m256 r[12];
+  };
+
   /// Eight points at a time with AVX2, where the processor has it (checked at run time; the
   /// build targets plain x86-64): cells4()'s operations lane by lane, in the same order (no
   /// fused multiply-add), so both give the same cells. 256-bit shuffles work within 128-bit
@@ -187,8 +195,7 @@ class CellMapper {
   __attribute__((target("avx2"))) size_t map8(const float* __restrict__ q, size_t n,
                                               const RowMajorPose& m, int* __restrict__ idx,
                                               float* __restrict__ z) const {
-    __m256 r[12];
-    for (int i = 0; i < 12; ++i) r[i] = _mm256_set1_ps(m.m[i]);
+    const Pose8 pose(m);
     size_t k = 0;
     for (; k + 8 <= n; k += 8) {
       _mm_prefetch(reinterpret_cast<const char*>(q + 3 * k + 768), _MM_HINT_T0);
@@ -207,7 +214,7 @@ class CellMapper {
       const __m256 pz = _mm256_shuffle_ps(_mm256_shuffle_ps(a, b, _MM_SHUFFLE(1, 1, 2, 2)),
                                           _mm256_shuffle_ps(c, c, _MM_SHUFFLE(3, 3, 0, 0)),
                                           _MM_SHUFFLE(2, 0, 2, 0));
-      cells8(r, px, py, pz, idx + k, z + k);
+      cells8(pose, px, py, pz, idx + k, z + k);
     }
     return k;
   }
@@ -218,8 +225,7 @@ class CellMapper {
                                               const RowMajorPose& m, int* __restrict__ idx,
                                               float* __restrict__ z,
                                               std::uint32_t* __restrict__ w) const {
-    __m256 r[12];
-    for (int i = 0; i < 12; ++i) r[i] = _mm256_set1_ps(m.m[i]);
+    const Pose8 pose(m);
     size_t k = 0;
     for (; k + 8 <= n; k += 8) {
       _mm_prefetch(reinterpret_cast<const char*>(q + 4 * k + 1024), _MM_HINT_T0);
@@ -240,15 +246,16 @@ class CellMapper {
       const __m256 py = _mm256_shuffle_ps(t0, t1, _MM_SHUFFLE(3, 2, 3, 2));
       const __m256 pz = _mm256_shuffle_ps(t2, t3, _MM_SHUFFLE(1, 0, 1, 0));
       const __m256 pn = _mm256_shuffle_ps(t2, t3, _MM_SHUFFLE(3, 2, 3, 2));
-      cells8(r, px, py, pz, idx + k, z + k);
+      cells8(pose, px, py, pz, idx + k, z + k);
       _mm256_storeu_si256(reinterpret_cast<__m256i*>(w + k), _mm256_castps_si256(pn));
     }
     return k;
   }
 
   /// cells4() for eight points: the same operations lane by lane.
-  __attribute__((target("avx2"))) void cells8(const __m256* r, __m256 px, __m256 py, __m256 pz,
+  __attribute__((target("avx2"))) void cells8(const Pose8& pose, __m256 px, __m256 py, __m256 pz,
                                               int* idx, float* z) const {
+    const __m256* r = pose.r;
     // Each row of the pose summed left to right, as RowMajorPose::apply().
     const __m256 x =
         _mm256_add_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(r[0], px), _mm256_mul_ps(r[1], py)),

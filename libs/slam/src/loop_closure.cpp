@@ -105,18 +105,16 @@ LoopCandidate LoopCloser::verify(const SlamMap& map, int from_id, int to_id,
     }
   }
   const bool ground = grid_.includeGround();
-  HeightFrame& ref = ref_;
-  HeightFrame& cur = cur_;
-  ref.build(from_cloud, Eigen::Isometry3d::Identity(), grid_.grid, grid_.selection, ground);
-  cur.build(to_cloud, Eigen::Isometry3d::Identity(), grid_.grid, grid_.selection, ground);
-  if (ref.empty() || cur.empty()) {
+  ref_.build(from_cloud, Eigen::Isometry3d::Identity(), grid_.grid, grid_.selection, ground);
+  cur_.build(to_cloud, Eigen::Isometry3d::Identity(), grid_.grid, grid_.selection, ground);
+  if (ref_.empty() || cur_.empty()) {
     c.reason = "empty keyframe cloud";
     return c;
   }
   const DirectAligner aligner(grid_.solver);
-  const double selected = static_cast<double>(cur.levels().front().cells.size());
+  const double selected = static_cast<double>(cur_.levels().front().cells.size());
   std::vector<AlignmentResult> refined;
-  for (const Eigen::Isometry3d& start : starts) refined.push_back(aligner.align(ref, cur, start));
+  for (const Eigen::Isometry3d& start : starts) refined.push_back(aligner.align(ref_, cur_, start));
   judge(refined, selected, guess, c, edge);
   return c;
 }
@@ -125,15 +123,13 @@ std::vector<Eigen::Isometry3d> LoopCloser::searchBasins(const WeightedCloud& fro
                                                         const WeightedCloud& to_cloud,
                                                         const Eigen::Isometry3d& guess) const {
   const bool ground = grid_.includeGround();
-  HeightFrame& ref_coarse = ref_coarse_;
-  HeightFrame& cur_coarse = cur_coarse_;
   // Drift puts the guess metres and degrees off, beyond the basin of one registration: search
   // a lattice of starts on a coarse grid first, and keep the best-fitting basin.
-  const DloParams& coarse = coarse_;
-  ref_coarse.build(from_cloud, Eigen::Isometry3d::Identity(), coarse.grid, coarse.selection,
-                   ground);
-  cur_coarse.build(to_cloud, Eigen::Isometry3d::Identity(), coarse.grid, coarse.selection, ground);
-  const DirectAligner coarse_aligner(coarse.solver);
+  ref_coarse_.build(from_cloud, Eigen::Isometry3d::Identity(), coarse_.grid, coarse_.selection,
+                    ground);
+  cur_coarse_.build(to_cloud, Eigen::Isometry3d::Identity(), coarse_.grid, coarse_.selection,
+                    ground);
+  const DirectAligner coarse_aligner(coarse_.solver);
   struct Basin {
     Eigen::Isometry3d pose;
     double rms;
@@ -143,7 +139,7 @@ std::vector<Eigen::Isometry3d> LoopCloser::searchBasins(const WeightedCloud& fro
     for (const double dy : kSearchOffsets) {
       for (const double dyaw : kSearchYaws) {
         const Eigen::Isometry3d start = poseFromXYZYPR(dx, dy, 0.0, dyaw * kDeg, 0.0, 0.0) * guess;
-        const AlignmentResult r = coarse_aligner.align(ref_coarse, cur_coarse, start);
+        const AlignmentResult r = coarse_aligner.align(ref_coarse_, cur_coarse_, start);
         if (r.cells < grid_.solver.min_cells) continue;
         auto same = std::find_if(basins.begin(), basins.end(), [&](const Basin& b) {
           const Eigen::Isometry3d d = b.pose.inverse() * r.pose;

@@ -30,14 +30,9 @@ class HeightSampler {
   /// Samples at metric (x, y) in the grid frame. Returns false when (x, y) is outside the grid
   /// or any of the four surrounding cells lacks a valid gradient.
   bool sample(double x, double y, HeightSample& out) const {
-    const double u = (x - geometry_.x_min) * inv_resolution_ - 0.5;
-    const double v = (y - geometry_.y_min) * inv_resolution_ - 0.5;
-    if (!(u >= 0.0 && v >= 0.0 && u < geometry_.cols - 1 && v < geometry_.rows - 1)) return false;
-    const int c = static_cast<int>(u);
-    const int r = static_cast<int>(v);
-    const float a = static_cast<float>(u - c);
-    const float b = static_cast<float>(v - r);
-    const GradientCell* p0 = &field_.cells[r * geometry_.cols + c];
+    float a, b;
+    const GradientCell* p0 = lowerLeft(x, y, a, b);
+    if (p0 == nullptr) return false;
     const GradientCell* p1 = p0 + geometry_.cols;
     // ok is 1 or 0: one test of the product instead of four branches on data.
     if (p0[0].ok * p0[1].ok * p1[0].ok * p1[1].ok == 0.0f) return false;
@@ -64,14 +59,13 @@ class HeightSampler {
 
   /// Asks for the cache lines sample(x, y) reads, for a sample() later; a hint only.
   void prefetch(double x, double y) const {
-    const double u = (x - geometry_.x_min) * inv_resolution_ - 0.5;
-    const double v = (y - geometry_.y_min) * inv_resolution_ - 0.5;
-    if (!(u >= 0.0 && v >= 0.0 && u < geometry_.cols - 1 && v < geometry_.rows - 1)) return;
-    const GradientCell* p0 =
-        &field_.cells[static_cast<int>(v) * geometry_.cols + static_cast<int>(u)];
+    float a, b;
+    const GradientCell* p0 = lowerLeft(x, y, a, b);
+    if (p0 == nullptr) return;
     __builtin_prefetch(p0);
     __builtin_prefetch(p0 + geometry_.cols);
   }
+
   /// Recomputes the gradients of `grid` in place, reusing this sampler's memory.
   void rebuild(const HeightGrid& grid) {
     geometry_ = grid.geometry();
@@ -87,6 +81,19 @@ class HeightSampler {
   }
 
  private:
+  /// The lower-left of the four cells around (x, y) and the bilinear fractions (a along x, b
+  /// along y), or nullptr when (x, y) is outside the grid's cell centres.
+  const GradientCell* lowerLeft(double x, double y, float& a, float& b) const {
+    const double u = (x - geometry_.x_min) * inv_resolution_ - 0.5;
+    const double v = (y - geometry_.y_min) * inv_resolution_ - 0.5;
+    if (!(u >= 0.0 && v >= 0.0 && u < geometry_.cols - 1 && v < geometry_.rows - 1)) return nullptr;
+    const int c = static_cast<int>(u);
+    const int r = static_cast<int>(v);
+    a = static_cast<float>(u - c);
+    b = static_cast<float>(v - r);
+    return &field_.cells[r * geometry_.cols + c];
+  }
+
   GridGeometry geometry_;
   double inv_resolution_ = 1.0;
   GradientField field_;
