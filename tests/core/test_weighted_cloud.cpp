@@ -3,6 +3,7 @@
 // empty weights, weights adding up, VoxelMerger against voxelise() bit for bit, huge coordinates.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -74,6 +75,54 @@ TEST(Voxelise, ARealSweepKeepsEveryPointAndMergerAgreesBitForBit) {
   merger.add(WeightedCloud(all.begin(), all.begin() + all.size() / 2));
   merger.add(WeightedCloud(all.begin() + all.size() / 2, all.end()));
   expectIdentical(merger.result(), fine);
+}
+
+TEST(Voxelise, EveryPointGoesToTheVoxelOfTheFloorOfItsCoordinates) {
+  // Keys are computed four points at a time; this checks each point's voxel against the formula
+  // written out (floor of the coordinate in voxels, clamped to 21 bits): random points on both
+  // sides of zero, points on voxel faces (where truncation and floor differ below zero), and
+  // points beyond the key range on both sides, at every position of a batch.
+  const double voxel = 0.1;
+  const float inv = static_cast<float>(1.0 / voxel);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> coordinate(-3.0f, 3.0f);
+  std::uniform_int_distribution<int> face(-30, 30);
+  PointCloud points;
+  for (int i = 0; i < 2000; ++i) {
+    switch (i % 4) {
+      case 0:
+        points.emplace_back(coordinate(rng), coordinate(rng), coordinate(rng));
+        break;
+      case 1:  // on faces
+        points.emplace_back(face(rng) * 0.1f, face(rng) * 0.1f, face(rng) * 0.1f);
+        break;
+      case 2:  // beyond the key range (+-104.8 km at 0.1 m)
+        points.emplace_back(i % 8 == 2 ? -2.0e5f : 3.0e5f, coordinate(rng), -1.0e15f);
+        break;
+      default:  // a point already seen, so that voxels hold several
+        points.push_back(points[static_cast<size_t>(rng() % points.size())]);
+    }
+  }
+  auto axis = [&](float v) {
+    const std::int64_t i = static_cast<std::int64_t>(std::floor(v * inv)) + (1 << 20);
+    return static_cast<std::uint64_t>(std::clamp<std::int64_t>(i, 0, (1 << 21) - 1));
+  };
+  std::vector<std::uint64_t> order;
+  std::vector<std::pair<Eigen::Vector3f, std::uint32_t>> sums;
+  for (const Eigen::Vector3f& p : points) {
+    const std::uint64_t key = (axis(p.x()) << 42) | (axis(p.y()) << 21) | axis(p.z());
+    const size_t at =
+        static_cast<size_t>(std::find(order.begin(), order.end(), key) - order.begin());
+    if (at == order.size()) {
+      order.push_back(key);
+      sums.emplace_back(Eigen::Vector3f::Zero(), 0u);
+    }
+    sums[at].first += p * 1.0f;
+    sums[at].second += 1;
+  }
+  WeightedCloud expected;
+  for (const auto& [sum, n] : sums) expected.push_back({sum / static_cast<float>(n), n});
+  expectIdentical(voxelise(points, voxel), expected);
 }
 
 TEST(Voxelise, CoordinatesBeyondTheKeyRangeShareTheEdgeVoxel) {
