@@ -17,15 +17,16 @@ HeightFrame HeightFrame::fromGrid(const HeightGrid& finest, int levels,
   f.times_ = StageTimes();
   f.levels_.resize(static_cast<size_t>(std::max(1, levels)));
   f.levels_[0].grid = finest;
-  f.buildLevels(selection, include_ground, FrameUse::kCurrentAndReference);
+  f.buildLevels(selection, include_ground, FrameUse::kCurrentAndReference, false);
   return f;
 }
 
 void HeightFrame::build(const PointCloud& points, const HeightGridParams& grid,
                         const SelectionParams& selection, bool include_ground) {
   buildWith(
-      [&](HeightGrid& finest, const GridGeometry& geometry) {
-        finest.rasterise(points, geometry, grid.min_points, grid.min_z, grid.max_z);
+      [&](HeightGrid& finest, const GridGeometry& geometry, HeightGrid* coarser) {
+        finest.rasterise(points, SweepMotion(), geometry, grid.min_points, grid.min_z, grid.max_z,
+                         coarser);
       },
       grid, selection, include_ground);
 }
@@ -34,8 +35,9 @@ void HeightFrame::build(const PointCloud& points, const SweepMotion& motion,
                         const HeightGridParams& grid, const SelectionParams& selection,
                         bool include_ground, FrameUse use) {
   buildWith(
-      [&](HeightGrid& finest, const GridGeometry& geometry) {
-        finest.rasterise(points, motion, geometry, grid.min_points, grid.min_z, grid.max_z);
+      [&](HeightGrid& finest, const GridGeometry& geometry, HeightGrid* coarser) {
+        finest.rasterise(points, motion, geometry, grid.min_points, grid.min_z, grid.max_z,
+                         coarser);
       },
       grid, selection, include_ground, use);
 }
@@ -49,8 +51,8 @@ void HeightFrame::build(const WeightedCloud& points, const Eigen::Isometry3d& po
 void HeightFrame::build(const std::vector<PosedCloud>& parts, const HeightGridParams& grid,
                         const SelectionParams& selection, bool include_ground, FrameUse use) {
   buildWith(
-      [&](HeightGrid& finest, const GridGeometry& geometry) {
-        finest.rasterise(parts, geometry, grid.min_points, grid.min_z, grid.max_z);
+      [&](HeightGrid& finest, const GridGeometry& geometry, HeightGrid* coarser) {
+        finest.rasterise(parts, geometry, grid.min_points, grid.min_z, grid.max_z, coarser);
       },
       grid, selection, include_ground, use);
 }
@@ -58,14 +60,14 @@ void HeightFrame::build(const std::vector<PosedCloud>& parts, const HeightGridPa
 void HeightFrame::build(const HeightGrid::CellFiller& fill, const HeightGridParams& grid,
                         const SelectionParams& selection, bool include_ground, FrameUse use) {
   buildWith(
-      [&](HeightGrid& finest, const GridGeometry& geometry) {
-        finest.accumulateCells(geometry, grid.min_points, fill);
+      [&](HeightGrid& finest, const GridGeometry& geometry, HeightGrid* coarser) {
+        finest.accumulateCells(geometry, grid.min_points, fill, coarser);
       },
       grid, selection, include_ground, use);
 }
 
 void HeightFrame::buildWith(
-    const std::function<void(HeightGrid&, const GridGeometry&)>& rasterise_finest,
+    const std::function<void(HeightGrid&, const GridGeometry&, HeightGrid*)>& rasterise_finest,
     const HeightGridParams& grid, const SelectionParams& selection, bool include_ground,
     FrameUse use) {
   times_ = StageTimes();
@@ -73,12 +75,16 @@ void HeightFrame::buildWith(
   // reaches a steady state with no allocation at all.
   levels_.resize(static_cast<size_t>(std::max(1, grid.levels)));
   Stopwatch sw;
-  rasterise_finest(levels_[0].grid, GridGeometry::centred(grid.cols, grid.rows, grid.resolution));
+  // Level 1 is pooled while level 0 is finalised (one pass over level 0's sums, not two).
+  HeightGrid* level1 = levels_.size() > 1 ? &levels_[1].grid : nullptr;
+  rasterise_finest(levels_[0].grid, GridGeometry::centred(grid.cols, grid.rows, grid.resolution),
+                   level1);
   times_.grid_ms = sw.elapsedMs();
-  buildLevels(selection, include_ground, use);
+  buildLevels(selection, include_ground, use, level1 != nullptr);
 }
 
-void HeightFrame::buildLevels(const SelectionParams& selection, bool include_ground, FrameUse use) {
+void HeightFrame::buildLevels(const SelectionParams& selection, bool include_ground, FrameUse use,
+                              bool level1_pooled) {
   can_be_reference_ = use != FrameUse::kCurrentOnly;
   can_be_current_ = use != FrameUse::kReferenceOnly;
   // A current-only frame leaves its finest level unfilled: the selection pulls heights from
@@ -86,7 +92,8 @@ void HeightFrame::buildLevels(const SelectionParams& selection, bool include_gro
   const size_t first_filled = can_be_reference_ ? 0 : 1;
   {
     Stopwatch sw;
-    for (size_t k = 1; k < levels_.size(); ++k) levels_[k].grid.poolFrom(levels_[k - 1].grid);
+    for (size_t k = level1_pooled ? 2 : 1; k < levels_.size(); ++k)
+      levels_[k].grid.poolFrom(levels_[k - 1].grid);
     for (size_t k = levels_.size() - 1; k-- > first_filled;)
       levels_[k].grid.fillHolesFrom(levels_[k + 1].grid);
     times_.grid_ms += sw.elapsedMs();

@@ -376,13 +376,13 @@ void HeightGrid::rasterise(const PointCloud& points, const GridGeometry& geometr
 }
 
 void HeightGrid::rasterise(const PointCloud& points, const SweepMotion& motion,
-                           const GridGeometry& geometry, int min_points, double min_z,
-                           double max_z) {
+                           const GridGeometry& geometry, int min_points, double min_z, double max_z,
+                           HeightGrid* coarser) {
   geometry_ = geometry;
   min_points_ = min_points;
   clearSums();
   rasteriseSweep(points, motion, geometry, min_z, max_z, count_.data(), sum_z_.data());
-  finalise();
+  finalise(coarser);
 }
 
 void HeightGrid::rasterise(const WeightedCloud& points, const Eigen::Isometry3d& pose,
@@ -392,23 +392,23 @@ void HeightGrid::rasterise(const WeightedCloud& points, const Eigen::Isometry3d&
 }
 
 void HeightGrid::rasterise(const std::vector<PosedCloud>& parts, const GridGeometry& geometry,
-                           int min_points, double min_z, double max_z) {
+                           int min_points, double min_z, double max_z, HeightGrid* coarser) {
   geometry_ = geometry;
   min_points_ = min_points;
   clearSums();
   for (const PosedCloud& part : parts) {
     rasteriseWeighted(*part.cloud, part.pose, geometry, min_z, max_z, count_.data(), sum_z_.data());
   }
-  finalise();
+  finalise(coarser);
 }
 
 void HeightGrid::accumulateCells(const GridGeometry& geometry, int min_points,
-                                 const CellFiller& fill) {
+                                 const CellFiller& fill, HeightGrid* coarser) {
   geometry_ = geometry;
   min_points_ = min_points;
   clearSums();
   fill(count_.data(), sum_z_.data());
-  finalise();
+  finalise(coarser);
 }
 
 HeightGrid HeightGrid::fromCells(const GridGeometry& geometry,
@@ -426,7 +426,7 @@ HeightGrid HeightGrid::fromCells(const GridGeometry& geometry,
     g.count_[i] = counts[i];
     g.sum_z_[i] = mean_heights[i] * static_cast<float>(counts[i]);
   }
-  g.finalise();
+  g.finalise(nullptr);
   return g;
 }
 
@@ -458,7 +458,7 @@ void HeightGrid::poolFrom(const HeightGrid& finer) {
       gs[pairs] += sum[cols - 1];
     }
   }
-  g.finalise();
+  g.finalise(nullptr);
 }
 
 void HeightGrid::clearSums() {
@@ -467,17 +467,21 @@ void HeightGrid::clearSums() {
   sum_z_.assign(n, 0.0f);
 }
 
-void HeightGrid::finalise() {
-  const int n = geometry_.cellCount();
-  height_.resize(n);
-  valid_.resize(n);
-  // Signed counts throughout: SSE2 converts and compares signed integers in one instruction,
-  // unsigned ones not (a cell never holds 2^31 points).
-  const std::int32_t need = std::max(min_points_, 1);
-  const std::int32_t* __restrict__ cnt = reinterpret_cast<const std::int32_t*>(count_.data());
-  const float* __restrict__ sum = sum_z_.data();
-  float* __restrict__ height = height_.data();
-  std::uint8_t* __restrict__ valid = valid_.data();
+namespace {
+
+/// Where finaliseCells() pools its cells: the coarse row's counts and sums.
+struct PoolRow {
+  std::uint32_t* count;
+  float* sum;
+};
+
+/// Heights and valid flags of n cells from their counts and sums, and the number of valid ones;
+/// with `pool` (n cells of one fine row), each pair of cells is also added into the coarse row
+/// as HeightGrid::poolFrom() adds it. Signed counts throughout: SSE2 converts and compares
+/// signed integers in one instruction, unsigned ones not (a cell never holds 2^31 points).
+int finaliseCells(const std::int32_t* __restrict__ cnt, const float* __restrict__ sum, int n,
+                  std::int32_t need, float* __restrict__ height, std::uint8_t* __restrict__ valid,
+                  const PoolRow* pool) {
   int valid_cells = 0;
   int i = 0;
 #ifdef __SSE2__
@@ -492,6 +496,26 @@ void HeightGrid::finalise() {
     for (int g = 0; g < 4; ++g) {
       c[g] = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cnt + i + 4 * g));
       ok[g] = _mm_cmpgt_epi32(c[g], at_least);  // all ones if valid
+    }
+    if (pool != nullptr) {
+      // Pairs of cells, as even + odd lanes; a group without points adds nothing (the coarse
+      // sums start at +0 and never become -0, so adding +0 would not change them either).
+      const __m128i any = _mm_or_si128(_mm_or_si128(c[0], c[1]), _mm_or_si128(c[2], c[3]));
+      if (_mm_movemask_epi8(_mm_cmpeq_epi32(any, _mm_setzero_si128())) != 0xFFFF) {
+        for (int h = 0; h < 2; ++h) {
+          const int j = i / 2 + 4 * h;
+          const __m128 a = _mm_castsi128_ps(c[2 * h]), b = _mm_castsi128_ps(c[2 * h + 1]);
+          const __m128i pairs =
+              _mm_add_epi32(_mm_castps_si128(_mm_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0))),
+                            _mm_castps_si128(_mm_shuffle_ps(a, b, _MM_SHUFFLE(3, 1, 3, 1))));
+          __m128i* gc = reinterpret_cast<__m128i*>(pool->count + j);
+          _mm_storeu_si128(gc, _mm_add_epi32(_mm_loadu_si128(gc), pairs));
+          const __m128 s0 = _mm_loadu_ps(sum + i + 8 * h), s1 = _mm_loadu_ps(sum + i + 8 * h + 4);
+          const __m128 sums = _mm_add_ps(_mm_shuffle_ps(s0, s1, _MM_SHUFFLE(2, 0, 2, 0)),
+                                         _mm_shuffle_ps(s0, s1, _MM_SHUFFLE(3, 1, 3, 1)));
+          _mm_storeu_ps(pool->sum + j, _mm_add_ps(_mm_loadu_ps(pool->sum + j), sums));
+        }
+      }
     }
     // -1 / 0 per cell, narrowed to bytes with signed saturation.
     const __m128i flags =
@@ -512,13 +536,55 @@ void HeightGrid::finalise() {
     }
   }
 #endif
+  if (pool != nullptr) {
+    // The rest in pairs from the even column i; an odd last cell alone, as poolFrom().
+    for (int c = i; c < n; c += 2) {
+      const bool pair = c + 1 < n;
+      const std::uint32_t first = static_cast<std::uint32_t>(cnt[c]);
+      pool->count[c / 2] += pair ? first + static_cast<std::uint32_t>(cnt[c + 1]) : first;
+      pool->sum[c / 2] += pair ? sum[c] + sum[c + 1] : sum[c];
+    }
+  }
   for (; i < n; ++i) {
     const bool ok = cnt[i] >= need;
     height[i] = ok ? sum[i] / static_cast<float>(cnt[i]) + 0.0f : 0.0f;
     valid[i] = ok ? 1u : 0u;
     valid_cells += valid[i];
   }
-  valid_cells_ = valid_cells;
+  return valid_cells;
+}
+
+}  // namespace
+
+void HeightGrid::finalise(HeightGrid* coarser) {
+  const int n = geometry_.cellCount();
+  height_.resize(n);
+  valid_.resize(n);
+  const std::int32_t need = std::max(min_points_, 1);
+  const std::int32_t* cnt = reinterpret_cast<const std::int32_t*>(count_.data());
+  if (coarser == nullptr) {
+    valid_cells_ =
+        finaliseCells(cnt, sum_z_.data(), n, need, height_.data(), valid_.data(), nullptr);
+  } else {
+    // Row by row, each row's pairs added into the coarse row while its cells are at hand: the
+    // same sums in the same order as coarser->poolFrom(*this), without reading the counts and
+    // sums (two megabytes at 400 x 400) a second time.
+    coarser->geometry_ = geometry_.coarser();
+    coarser->min_points_ = min_points_;
+    coarser->clearSums();
+    const int cols = geometry_.cols;
+    const int coarse_cols = coarser->geometry_.cols;
+    int valid_cells = 0;
+    for (int r = 0; r < geometry_.rows; ++r) {
+      const size_t at = static_cast<size_t>(r) * cols;
+      const size_t coarse_at = static_cast<size_t>(r / 2) * coarse_cols;
+      const PoolRow pool{coarser->count_.data() + coarse_at, coarser->sum_z_.data() + coarse_at};
+      valid_cells += finaliseCells(cnt + at, sum_z_.data() + at, cols, need, height_.data() + at,
+                                   valid_.data() + at, &pool);
+    }
+    valid_cells_ = valid_cells;
+    coarser->finalise(nullptr);
+  }
   support_ = valid_;
 }
 

@@ -81,12 +81,16 @@ class HeightFrame {
   const StageTimes& buildTimes() const { return times_; }
 
  private:
-  /// Level 0 by `rasterise_finest` (into the centred geometry of `grid`), then buildLevels().
-  void buildWith(const std::function<void(HeightGrid&, const GridGeometry&)>& rasterise_finest,
-                 const HeightGridParams& grid, const SelectionParams& selection,
-                 bool include_ground, FrameUse use = FrameUse::kCurrentAndReference);
-  /// Levels 1.. from level 0, hole filling, gradients and selection on every level.
-  void buildLevels(const SelectionParams& selection, bool include_ground, FrameUse use);
+  /// Level 0 by `rasterise_finest` (into the centred geometry of `grid`, pooling level 1 into
+  /// its third argument when that is not null), then buildLevels().
+  void buildWith(
+      const std::function<void(HeightGrid&, const GridGeometry&, HeightGrid*)>& rasterise_finest,
+      const HeightGridParams& grid, const SelectionParams& selection, bool include_ground,
+      FrameUse use = FrameUse::kCurrentAndReference);
+  /// Levels 1.. from level 0 (from 2 when `level1_pooled`: level 1 was made with level 0), hole
+  /// filling, gradients and selection on every level.
+  void buildLevels(const SelectionParams& selection, bool include_ground, FrameUse use,
+                   bool level1_pooled);
 
   std::vector<FrameLevel> levels_;
   bool can_be_reference_ = true;

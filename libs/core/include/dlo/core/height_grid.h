@@ -59,24 +59,29 @@ class HeightGrid {
                  double min_z, double max_z);
   /// Rasterises a sweep deskewed on the fly: point i counts at motion.apply(i, points[i]), the
   /// same as rasterising deskew(points, motion) without writing and re-reading that copy.
-  /// `motion` is ignored unless it fits the cloud (SweepMotion::fits).
+  /// `motion` is ignored unless it fits the cloud (SweepMotion::fits). With `coarser` (not this
+  /// grid), that grid also becomes this one's coarser() level, exactly as
+  /// coarser->poolFrom(*this) would make it, pooled in the same pass over the cells.
   void rasterise(const PointCloud& points, const SweepMotion& motion, const GridGeometry& geometry,
-                 int min_points, double min_z, double max_z);
+                 int min_points, double min_z, double max_z, HeightGrid* coarser = nullptr);
 
   /// Rasterises weighted points (voxel centroids with counts) seen from `pose`: each point is
   /// mapped by pose * p into the grid frame and counts n times. Used to rebuild keyframe grids
   /// and to fuse several keyframes into a local map.
   void rasterise(const WeightedCloud& points, const Eigen::Isometry3d& pose,
                  const GridGeometry& geometry, int min_points, double min_z, double max_z);
-  /// Rasterises several posed clouds into one grid (their counts and sums add up).
+  /// Rasterises several posed clouds into one grid (their counts and sums add up). `coarser` as
+  /// for sweeps.
   void rasterise(const std::vector<PosedCloud>& parts, const GridGeometry& geometry, int min_points,
-                 double min_z, double max_z);
+                 double min_z, double max_z, HeightGrid* coarser = nullptr);
 
   /// Per-cell point counts and height sums, row-major, for accumulateCells().
   using CellFiller = std::function<void(std::uint32_t* count, float* sum)>;
   /// Rebuilds this grid from the counts and height sums that `fill` writes into zeroed arrays
   /// of `geometry`'s size: cells accumulated elsewhere, e.g. a LocalHeightMap window.
-  void accumulateCells(const GridGeometry& geometry, int min_points, const CellFiller& fill);
+  /// `coarser` as for rasterise().
+  void accumulateCells(const GridGeometry& geometry, int min_points, const CellFiller& fill,
+                       HeightGrid* coarser = nullptr);
 
   /// The next coarser level (cells twice as large) from pooled sums and counts.
   HeightGrid coarser() const;
@@ -136,7 +141,9 @@ class HeightGrid {
   /// Zeroes count_ and sum_z_ for geometry_: one entry per cell plus a few last "discard"
   /// cells that rasterisation sends rejected points to.
   void clearSums();
-  void finalise();
+  /// Heights and valid flags from the counts and sums; with `coarser`, pools it from this grid
+  /// in the same pass (then finalises it).
+  void finalise(HeightGrid* coarser);
 
   GridGeometry geometry_;
   int min_points_ = 3;
