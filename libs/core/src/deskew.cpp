@@ -77,6 +77,17 @@ void SweepMotion::bins(const float* t, size_t n, int* out) const {
   for (; k < n; ++k) out[k] = bin(t[k]);
 }
 
+void SweepMotion::apply(size_t first, const Eigen::Vector3f* p, size_t n,
+                        Eigen::Vector3f* out) const {
+  constexpr size_t kBatch = 256;
+  int bin[kBatch];
+  for (size_t from = 0; from < n; from += kBatch) {
+    const size_t m = std::min(kBatch, n - from);
+    bins(times_->data() + first + from, m, bin);
+    for (size_t k = 0; k < m; ++k) out[from + k] = pose(bin[k]) * p[from + k];
+  }
+}
+
 PointCloud deskew(const PointCloud& points, const std::vector<float>& times,
                   const Vector6d& velocity, int bins) {
   if (times.size() != points.size() || points.empty()) return points;
@@ -95,7 +106,7 @@ void deskew(const PointCloud& points, const SweepMotion& motion, PointCloud& out
     return;
   }
   out.resize(points.size());
-  for (size_t i = 0; i < points.size(); ++i) out[i] = motion.apply(i, points[i]);
+  motion.apply(0, points.data(), points.size(), out.data());
 }
 
 }  // namespace dlo

@@ -296,7 +296,7 @@ AlignmentResult alignImpl(const SolverParams& p, const HeightFrame& reference,
     for (int level = levels - 2; level >= 0; --level) {
       const HeightSampler& sampler = reference.levels()[level].sampler;
       for (const SelectedCell& c : current.levels()[level].cells) {
-        const Eigen::Vector3f q = R * Eigen::Vector3f(c.x, c.y, c.h) + t;
+        const Eigen::Vector3f q = cellInReference(c, R, t);
         sampler.prefetch(q.x(), q.y());
       }
     }

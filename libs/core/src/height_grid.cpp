@@ -179,6 +179,11 @@ class CellMapper {
 #endif
 
 #ifdef DLO_X86_DISPATCH
+  /// Four floats at `low` and four at `high` as the two halves of one 256-bit vector.
+  __attribute__((target("avx2"))) static __m256 loadHalves(const float* low, const float* high) {
+    return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(low)), _mm_loadu_ps(high), 1);
+  }
+
   /// The pose broadcast into 256-bit vectors (Pose4 for AVX2).
   struct Pose8 {
     __attribute__((target("avx2"))) explicit Pose8(const RowMajorPose& m) {
@@ -200,12 +205,9 @@ class CellMapper {
     for (; k + 8 <= n; k += 8) {
       _mm_prefetch(reinterpret_cast<const char*>(q + 3 * k + 768), _MM_HINT_T0);
       const float* at = q + 3 * k;
-      const __m256 a =
-          _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(at)), _mm_loadu_ps(at + 12), 1);
-      const __m256 b = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(at + 4)),
-                                            _mm_loadu_ps(at + 16), 1);
-      const __m256 c = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(at + 8)),
-                                            _mm_loadu_ps(at + 20), 1);
+      const __m256 a = loadHalves(at, at + 12);
+      const __m256 b = loadHalves(at + 4, at + 16);
+      const __m256 c = loadHalves(at + 8, at + 20);
       const __m256 bc = _mm256_shuffle_ps(b, c, _MM_SHUFFLE(1, 1, 2, 2));
       const __m256 px = _mm256_shuffle_ps(a, bc, _MM_SHUFFLE(2, 0, 3, 0));
       const __m256 py = _mm256_shuffle_ps(_mm256_shuffle_ps(a, b, _MM_SHUFFLE(0, 0, 1, 1)),
@@ -232,14 +234,10 @@ class CellMapper {
       const float* at = q + 4 * k;
       // Rows k..k+3 in the low halves, k+4..k+7 in the high ones; then _MM_TRANSPOSE4_PS in
       // each half.
-      const __m256 r0 =
-          _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(at)), _mm_loadu_ps(at + 16), 1);
-      const __m256 r1 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(at + 4)),
-                                             _mm_loadu_ps(at + 20), 1);
-      const __m256 r2 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(at + 8)),
-                                             _mm_loadu_ps(at + 24), 1);
-      const __m256 r3 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(at + 12)),
-                                             _mm_loadu_ps(at + 28), 1);
+      const __m256 r0 = loadHalves(at, at + 16);
+      const __m256 r1 = loadHalves(at + 4, at + 20);
+      const __m256 r2 = loadHalves(at + 8, at + 24);
+      const __m256 r3 = loadHalves(at + 12, at + 28);
       const __m256 t0 = _mm256_unpacklo_ps(r0, r1), t1 = _mm256_unpacklo_ps(r2, r3);
       const __m256 t2 = _mm256_unpackhi_ps(r0, r1), t3 = _mm256_unpackhi_ps(r2, r3);
       const __m256 px = _mm256_shuffle_ps(t0, t1, _MM_SHUFFLE(1, 0, 1, 0));
@@ -436,6 +434,33 @@ HeightGrid HeightGrid::coarser() const {
   return g;
 }
 
+namespace {
+
+/// Where a fine row's cells are pooled: the coarse row's counts and sums.
+struct PoolRow {
+  std::uint32_t* count;
+  float* sum;
+};
+
+/// Adds cells [from, n) of a fine row (from even) into the coarse row, a pair of cells into each
+/// coarse cell (c / 2), an odd last cell alone: the pooling of HeightGrid::poolFrom().
+void poolPairs(const std::uint32_t* __restrict__ cnt, const float* __restrict__ sum, int from,
+               int n, const PoolRow& pool) {
+  std::uint32_t* __restrict__ gc = pool.count;
+  float* __restrict__ gs = pool.sum;
+  const int pairs = n / 2;
+  for (int j = from / 2; j < pairs; ++j) {
+    gc[j] += cnt[2 * j] + cnt[2 * j + 1];
+    gs[j] += sum[2 * j] + sum[2 * j + 1];
+  }
+  if (n % 2 != 0) {
+    gc[pairs] += cnt[n - 1];
+    gs[pairs] += sum[n - 1];
+  }
+}
+
+}  // namespace
+
 void HeightGrid::poolFrom(const HeightGrid& finer) {
   HeightGrid& g = *this;
   g.geometry_ = finer.geometry_.coarser();
@@ -443,20 +468,10 @@ void HeightGrid::poolFrom(const HeightGrid& finer) {
   g.clearSums();
   const int cols = finer.geometry_.cols;
   for (int r = 0; r < finer.geometry_.rows; ++r) {
-    const int cr = (r / 2) * g.geometry_.cols;
-    const std::uint32_t* cnt = &finer.count_[r * cols];
-    const float* sum = &finer.sum_z_[r * cols];
-    std::uint32_t* gc = &g.count_[cr];
-    float* gs = &g.sum_z_[cr];
-    const int pairs = cols / 2;
-    for (int j = 0; j < pairs; ++j) {
-      gc[j] += cnt[2 * j] + cnt[2 * j + 1];
-      gs[j] += sum[2 * j] + sum[2 * j + 1];
-    }
-    if (cols % 2 != 0) {
-      gc[pairs] += cnt[cols - 1];
-      gs[pairs] += sum[cols - 1];
-    }
+    const size_t coarse_at = static_cast<size_t>(r / 2) * g.geometry_.cols;
+    const size_t at = static_cast<size_t>(r) * cols;
+    poolPairs(finer.count_.data() + at, finer.sum_z_.data() + at, 0, cols,
+              PoolRow{g.count_.data() + coarse_at, g.sum_z_.data() + coarse_at});
   }
   g.finalise(nullptr);
 }
@@ -468,12 +483,6 @@ void HeightGrid::clearSums() {
 }
 
 namespace {
-
-/// Where finaliseCells() pools its cells: the coarse row's counts and sums.
-struct PoolRow {
-  std::uint32_t* count;
-  float* sum;
-};
 
 /// Heights and valid flags of n cells from their counts and sums, and the number of valid ones;
 /// with `pool` (n cells of one fine row), each pair of cells is also added into the coarse row
@@ -536,15 +545,8 @@ int finaliseCells(const std::int32_t* __restrict__ cnt, const float* __restrict_
     }
   }
 #endif
-  if (pool != nullptr) {
-    // The rest in pairs from the even column i; an odd last cell alone, as poolFrom().
-    for (int c = i; c < n; c += 2) {
-      const bool pair = c + 1 < n;
-      const std::uint32_t first = static_cast<std::uint32_t>(cnt[c]);
-      pool->count[c / 2] += pair ? first + static_cast<std::uint32_t>(cnt[c + 1]) : first;
-      pool->sum[c / 2] += pair ? sum[c] + sum[c + 1] : sum[c];
-    }
-  }
+  // The rest from the even column i, as poolFrom() pools.
+  if (pool != nullptr) poolPairs(reinterpret_cast<const std::uint32_t*>(cnt), sum, i, n, *pool);
   for (; i < n; ++i) {
     const bool ok = cnt[i] >= need;
     height[i] = ok ? sum[i] / static_cast<float>(cnt[i]) + 0.0f : 0.0f;

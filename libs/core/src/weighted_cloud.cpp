@@ -179,15 +179,15 @@ void addBatched(VoxelAccumulator& acc, const std::vector<Point>& points, float i
   for (size_t first = 0; first < points.size(); first += kBatch) {
     const size_t n = std::min(kBatch, points.size() - first);
     for (size_t k = 0; k < n; ++k) {
-      const Eigen::Vector3f& p = position(points[first + k]);
+      const Point& q = points[first + k];
+      const Eigen::Vector3f& p = position(q);
       x[k] = p.x();
       y[k] = p.y();
       z[k] = p.z();
+      used[k] = weight(q) != 0 && p.allFinite();
     }
     voxelKeys(x, y, z, n, inv, keys);
     for (size_t k = 0; k < n; ++k) {
-      const Point& q = points[first + k];
-      used[k] = weight(q) != 0 && position(q).allFinite();
       if (used[k]) acc.prefetch(keys[k]);
     }
     for (size_t k = 0; k < n; ++k) {

@@ -17,8 +17,8 @@ constexpr size_t kSettledVelocityUpdates = 5;
 
 /// Points within `range` metres (horizontally) of the vehicle, what a keyframe keeps, into
 /// `out`: moved by `motion` if it fits them, in the same pass (a deskewed copy of the whole
-/// sweep first cost a pass and a megabyte more per keyframe). The bins of a batch of points
-/// are found together (SweepMotion::bins), as the rasterisation does.
+/// sweep first cost a pass and a megabyte more per keyframe). Moved a batch at a time
+/// (SweepMotion::apply finds the bins of a batch together, as the rasterisation does).
 void nearPoints(const PointCloud& points, const SweepMotion& motion, double range,
                 PointCloud& out) {
   out.resize(points.size());  // at most every point; cut to those kept at the end
@@ -30,13 +30,12 @@ void nearPoints(const PointCloud& points, const SweepMotion& motion, double rang
     }
   } else {
     constexpr size_t kBatch = 256;
-    int bin[kBatch];
+    Eigen::Vector3f moved[kBatch];
     for (size_t first = 0; first < points.size(); first += kBatch) {
       const size_t n = std::min(kBatch, points.size() - first);
-      motion.bins(motion.times().data() + first, n, bin);
+      motion.apply(first, points.data() + first, n, moved);
       for (size_t k = 0; k < n; ++k) {
-        const Eigen::Vector3f p = motion.pose(bin[k]) * points[first + k];
-        if (p.head<2>().squaredNorm() <= r2) out[kept++] = p;
+        if (moved[k].head<2>().squaredNorm() <= r2) out[kept++] = moved[k];
       }
     }
   }

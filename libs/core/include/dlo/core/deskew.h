@@ -56,6 +56,9 @@ class SweepMotion {
   Eigen::Vector3f apply(size_t i, const Eigen::Vector3f& p) const {
     return motion_[static_cast<size_t>(bin((*times_)[i]))] * p;
   }
+  /// apply(first + k, p[k]) for k in [0, n), into out[0, n): the same points, their bins found
+  /// several at a time (bins()). Only valid when the cloud of p fits().
+  void apply(size_t first, const Eigen::Vector3f* p, size_t n, Eigen::Vector3f* out) const;
   /// The bin of a point measured at time `t`: the nearest of 0..bins(). Only valid when
   /// !empty().
   int bin(float t) const {

@@ -9,6 +9,15 @@
 
 namespace dlo {
 
+/// Where a current-frame cell p = (x, y, h) lands in the reference under the pose T = [R | t]
+/// (current in reference): q = R p + t.
+template <typename Scalar>
+inline Eigen::Matrix<Scalar, 3, 1> cellInReference(const SelectedCell& cell,
+                                                   const Eigen::Matrix<Scalar, 3, 3>& R,
+                                                   const Eigen::Matrix<Scalar, 3, 1>& t) {
+  return R * Eigen::Matrix<Scalar, 3, 1>(Scalar(cell.x), Scalar(cell.y), Scalar(cell.h)) + t;
+}
+
 /// Residual of a current-frame cell p = (x, y, h) under the pose T (current in reference):
 /// with q = R p + t,
 ///   e = H_ref(q_x, q_y) - q_z.
@@ -28,8 +37,7 @@ inline bool heightResidual(const HeightSampler& reference, const SelectedCell& c
                            const Eigen::Matrix<Scalar, 3, 1>& t, Scalar& e,
                            Eigen::Matrix<Scalar, N, 1>& J) {
   static_assert(N == 3 || N == 6, "3 or 6 degrees of freedom");
-  const Eigen::Matrix<Scalar, 3, 1> q =
-      R * Eigen::Matrix<Scalar, 3, 1>(Scalar(cell.x), Scalar(cell.y), Scalar(cell.h)) + t;
+  const Eigen::Matrix<Scalar, 3, 1> q = cellInReference(cell, R, t);
   HeightSample s;
   if (!reference.sample(static_cast<double>(q.x()), static_cast<double>(q.y()), s)) return false;
   // A ground cell's gradient is sub-threshold noise: it observes height only.
