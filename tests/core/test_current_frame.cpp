@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 
@@ -138,6 +139,20 @@ TEST_F(CurrentOnlyFrame, DeskewMovesPointsByTheMotionOfTheirTime) {
   EXPECT_LT((motion.apply(0, (*scan_)[0]) - expected).norm(), 1e-4f);
   EXPECT_TRUE(SweepMotion().empty());
   EXPECT_FALSE(SweepMotion(*times_, velocity_).fits(scan_->size() + 1));
+}
+
+TEST_F(CurrentOnlyFrame, MovingARangeOfPointsEqualsMovingEach) {
+  // SweepMotion::apply over a range finds the bins of a batch together; from a point in the
+  // middle of the sweep and across several batches, each point must be moved as apply(i, p).
+  const SweepMotion motion(*times_, velocity_);
+  const size_t first = 1001, n = 700;
+  ASSERT_GT(scan_->size(), first + n);
+  std::vector<Eigen::Vector3f> out(n);
+  motion.apply(first, scan_->data() + first, n, out.data());
+  for (size_t k = 0; k < n; ++k) {
+    const Eigen::Vector3f each = motion.apply(first + k, (*scan_)[first + k]);
+    ASSERT_EQ(std::memcmp(out[k].data(), each.data(), sizeof(float) * 3), 0) << "point " << k;
+  }
 }
 
 TEST(SweepMotion, BinsOfManyTimesEqualTheBinOfEach) {
