@@ -44,7 +44,11 @@ supp="$PWD/tests/sanitizers"
 # that a request beyond its heap limit throws std::bad_alloc instead of aborting), and ASan's
 # operator delete then sees malloc'd blocks. A smaller quarantine, and freed memory handed back
 # every second, keep the inputs that reach that limit from adding up in the resident size.
-export ASAN_OPTIONS="detect_leaks=1:alloc_dealloc_mismatch=0:quarantine_size_mb=64:allocator_release_to_os_interval_ms=1000"
+# allocator_may_return_null + max_allocation_size_mb: libraries that call malloc themselves get
+# the same 64 MB block limit, and a refused malloc returns null as on a machine without the memory
+# instead of aborting: OpenCV's cv::fastMalloc, behind every MRPT image, sizes the pixel buffer
+# from the width and height in the file and throws when malloc fails (a corrupt entry).
+export ASAN_OPTIONS="detect_leaks=1:alloc_dealloc_mismatch=0:quarantine_size_mb=64:allocator_release_to_os_interval_ms=1000:allocator_may_return_null=1:max_allocation_size_mb=64"
 export LSAN_OPTIONS="suppressions=$supp/lsan.supp"
 export UBSAN_OPTIONS="suppressions=$supp/ubsan.supp:print_stacktrace=1:halt_on_error=1"
 # An input running 10 s is a hang; more than 2 GB resident, or one block beyond it, is out of

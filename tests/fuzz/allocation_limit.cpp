@@ -17,6 +17,10 @@
 // started beyond a budget (MRPT's memory pools keep blocks of earlier inputs, which are not held
 // against the next one). See allocation_limit.h for what the targets make of it.
 //
+// Libraries that call malloc themselves (OpenCV's cv::fastMalloc, behind MRPT's images) are not
+// served from here: run_fuzz.sh gives ASan the same block limit for them (max_allocation_size_mb,
+// allocator_may_return_null), so that a refused malloc returns null and the library throws.
+//
 // Blocks come from malloc, which ASan intercepts, so overflows, use-after-free and leaks are still
 // detected; only ASan's new/free mismatch check is lost (run_fuzz.sh sets
 // alloc_dealloc_mismatch=0).

@@ -122,6 +122,20 @@ TEST(FuzzRegression, RawlogActionCollectionHoldingANonActionIsCorruptNotANullDer
   EXPECT_NE(error.find(path), std::string::npos) << error;
 }
 
+TEST(FuzzRegression, RawlogImageOfBillionsOfPixelsIsCorruptNotAnAbort) {
+  // A 3D range scan whose intensity image declares 2e9 x 2.1e9 RGB pixels: MRPT has OpenCV
+  // allocate the pixels before reading them (cv::fastMalloc asked malloc for 1.26e19 bytes,
+  // which ASan refused by ending the fuzzer). The failed allocation is a corrupt entry.
+  const std::string path = regression("rawlog/image-of-4e18-pixels.rawlog");
+  RawlogScanSource source(path);
+  TimedScan scan;
+  EXPECT_FALSE(source.next(scan));
+  const std::string& error = source.stats().error;
+  EXPECT_NE(error.find("corrupt at entry 0"), std::string::npos) << error;
+  EXPECT_NE(error.find("mrpt::img::CImage"), std::string::npos) << error;
+  EXPECT_NE(error.find(path), std::string::npos) << error;
+}
+
 TEST(FuzzRegression, PcapWithANonEthernetLinkTypeIsRejectedBeforeMrptFiltersIt) {
   // Link type 65535: MRPT's filter did not compile and it filtered with an uninitialised
   // program (SEGV in libpcap).
