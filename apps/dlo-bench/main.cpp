@@ -31,7 +31,7 @@ namespace fs = std::filesystem;
 constexpr const char* kUsage =
     R"(Usage: dlo-bench --input IN.rawlog --gt GT.tum --out DIR [--methods M1,M2,...]
                  [--max-frames N] [--max-frames-slow N] [--min-range M] [--max-range M]
-                 [--quiet] [--help]
+                 [--repeat N] [--quiet] [--help]
 
 Runs every method on the same scans of IN, each in its own forked process (so that its peak
 memory is its own), and writes into DIR (created if needed), each file atomically:
@@ -57,6 +57,10 @@ Options:
   --max-frames-slow N  at most N scans for the slow methods (icp, ndt, gicp); default 100.
   --min-range M        drop points closer than M metres to the sensor (default 2.0).
   --max-range M        drop points farther than M metres (default 120).
+  --repeat N           run every method N times (default 1), in N rounds that each run every
+                       method once, so that all of them are timed under the machine's load of
+                       the whole benchmark; a scan's time is the median of its N times. On a
+                       shared machine this steadies the ratios between methods.
   --quiet              no progress.
   --help               print this text.
 
@@ -69,18 +73,20 @@ struct Arguments {
   std::vector<const dlo::bench::MethodSpec*> methods;
   long max_frames = -1;
   long max_frames_slow = 100;
+  long repeat = 1;
   double min_range = 2.0;
   double max_range = 120.0;
   bool quiet = false, help = false;
 };
 
-/// The value of `option` as a number of frames >= 1, or `fallback` when absent.
-long toCount(const dlo::CommandLine& cl, const std::string& option, long fallback) {
+/// The value of `option` as a whole number (of `what`) >= 1, or `fallback` when absent.
+long toCount(const dlo::CommandLine& cl, const std::string& option, long fallback,
+             const std::string& what = "frames") {
   const std::optional<std::string> text = cl.value(option);
   if (!text) return fallback;
   const double v = dlo::CommandLine::toNumber(option, *text);
   if (!(v >= 1.0) || v != std::floor(v)) {
-    throw UsageError{option + " expects a whole number of frames >= 1, got '" + *text + "'."};
+    throw UsageError{option + " expects a whole number of " + what + " >= 1, got '" + *text + "'."};
   }
   return static_cast<long>(v);
 }
@@ -105,7 +111,7 @@ std::vector<const dlo::bench::MethodSpec*> parseMethods(const std::string& list)
 Arguments parseArguments(int argc, char** argv) {
   const dlo::CommandLine cl(argc, argv,
                             {"--input", "--gt", "--out", "--methods", "--max-frames",
-                             "--max-frames-slow", "--min-range", "--max-range"},
+                             "--max-frames-slow", "--min-range", "--max-range", "--repeat"},
                             {"--quiet"});
   Arguments a;
   a.help = cl.help();
@@ -114,6 +120,7 @@ Arguments parseArguments(int argc, char** argv) {
   a.quiet = cl.flag("--quiet");
   a.max_frames = toCount(cl, "--max-frames", a.max_frames);
   a.max_frames_slow = toCount(cl, "--max-frames-slow", a.max_frames_slow);
+  a.repeat = toCount(cl, "--repeat", a.repeat, "runs");
   a.min_range = cl.number("--min-range", a.min_range);
   a.max_range = cl.number("--max-range", a.max_range);
   a.input = cl.required("--input");
@@ -194,6 +201,21 @@ std::string notes(const Arguments& args, const std::vector<dlo::bench::MethodRow
        "pose_{k-1} * (pose_{k-2}^-1 pose_{k-1}) and get the scans as measured (not deskewed); "
        "dlo-paper and dlo use LidarOdometry's own constant-velocity prediction (planar, over the "
        "last two intervals) and deskew with it.\n";
+  if (args.repeat > 1) {
+    o << "* --repeat " << args.repeat << ": every method ran " << args.repeat
+      << " times, in rounds that each ran every method once; a scan's time is the median of its "
+      << args.repeat << " times, and ms/frame, p95 and frames/s are taken over those.";
+    bool agree = true;
+    for (const auto& run : runs) {
+      if (run.error.empty() && run.pass_disagreement_m > 0.0) {
+        agree = false;
+        o << " " << run.method << "'s passes placed a scan up to " << run.pass_disagreement_m
+          << " m apart (the first pass's trajectory is evaluated).";
+      }
+    }
+    if (agree) o << " Every method gave the same trajectory in every pass.";
+    o << "\n";
+  }
   o << "* Slow methods are limited to the first " << args.max_frames_slow
     << " scans (--max-frames-slow)";
   if (args.max_frames > 0) o << ", all methods to " << args.max_frames << " (--max-frames)";
@@ -228,12 +250,27 @@ int run(const Arguments& args, const std::string& command) {
   std::vector<dlo::bench::MethodRow> rows;
   std::vector<std::pair<std::string, dlo::metrics::Trajectory>> trajectories;
   bool failed = false;
-  for (const dlo::bench::MethodSpec* spec : args.methods) {
-    long limit = args.max_frames;
-    if (spec->slow)
-      limit = limit < 0 ? args.max_frames_slow : std::min(limit, args.max_frames_slow);
-    if (!args.quiet) std::cerr << "dlo-bench: " << spec->name << "\n";
-    runs.push_back(dlo::bench::runMethodIsolated(*spec, args.input, options, limit, !args.quiet));
+  // Round after round, every method once per round: each is timed over the whole benchmark's
+  // span of the machine's load, not in a window of its own.
+  std::vector<std::vector<dlo::bench::MethodRun>> passes(args.methods.size());
+  for (long round = 1; round <= args.repeat; ++round) {
+    for (size_t m = 0; m < args.methods.size(); ++m) {
+      const dlo::bench::MethodSpec* spec = args.methods[m];
+      long limit = args.max_frames;
+      if (spec->slow)
+        limit = limit < 0 ? args.max_frames_slow : std::min(limit, args.max_frames_slow);
+      if (!args.quiet) {
+        std::cerr << "dlo-bench: " << spec->name;
+        if (args.repeat > 1) std::cerr << " (round " << round << " of " << args.repeat << ")";
+        std::cerr << "\n";
+      }
+      passes[m].push_back(
+          dlo::bench::runMethodIsolated(*spec, args.input, options, limit, !args.quiet));
+    }
+  }
+  for (size_t m = 0; m < args.methods.size(); ++m) {
+    const dlo::bench::MethodSpec* spec = args.methods[m];
+    runs.push_back(dlo::bench::combinePasses(passes[m]));
     const dlo::bench::MethodRun& r = runs.back();
     if (!r.input_warning.empty()) std::cerr << "dlo-bench: warning: " << r.input_warning << "\n";
     if (!r.error.empty() || r.trajectory.empty()) {

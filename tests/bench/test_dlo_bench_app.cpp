@@ -163,6 +163,29 @@ TEST_F(DloBenchApp, MethodsAndFrameLimitsAreHonoured) {
   EXPECT_FALSE(fs::exists(dir / "dlo.tum"));
 }
 
+TEST_F(DloBenchApp, RepeatTimesEveryMethodInRoundsAndChecksThePassesAgree) {
+  const fs::path dir = *dir_ / "repeat";
+  ASSERT_EQ(bench("--out " + dir.string() + " --methods dlo-paper,icp --max-frames 4 --repeat 3"),
+            0)
+      << readFile(stderrPath());
+  const std::string md = readFile(dir / "table.md");
+  EXPECT_NE(md.find("--repeat 3: every method ran 3 times, in rounds that each ran every method "
+                    "once; a scan's time is the median of its 3 times"),
+            std::string::npos)
+      << md;
+  // Both methods are deterministic: a difference between passes would be a bug.
+  EXPECT_NE(md.find("Every method gave the same trajectory in every pass."), std::string::npos)
+      << md;
+  EXPECT_EQ(metrics::readTumTrajectory((dir / "dlo-paper.tum").string()).size(), 4u);
+  EXPECT_EQ(metrics::readTumTrajectory((dir / "icp.tum").string()).size(), 4u);
+  EXPECT_EQ(readFile(out() / "table.md").find("--repeat"), std::string::npos)
+      << "one pass by default";
+  EXPECT_EQ(bench("--out " + dir.string() + " --repeat 0"), 2);
+  EXPECT_NE(readFile(stderrPath()).find("--repeat expects a whole number of runs >= 1, got '0'"),
+            std::string::npos)
+      << readFile(stderrPath());
+}
+
 TEST_F(DloBenchApp, UnknownMethodIsACommandLineErrorNamingIt) {
   EXPECT_EQ(bench("--out " + (*dir_ / "unknown").string() + " --methods dlo,lomp"), 2);
   const std::string err = readFile(stderrPath());

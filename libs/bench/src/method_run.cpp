@@ -3,10 +3,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
 #include <cstring>
 #include <sstream>
+#include <stdexcept>
 
 #include "dlo/core/stage_times.h"
 #include "dlo/mrpt/progress_bar.h"
@@ -167,6 +169,47 @@ MethodRun runMethodIsolated(const MethodSpec& spec, const std::string& rawlog,
     return failed;
   }
   return run;
+}
+
+MethodRun combinePasses(const std::vector<MethodRun>& passes) {
+  if (passes.empty()) throw std::invalid_argument("combinePasses needs at least one pass");
+  const int count = static_cast<int>(passes.size());
+  for (const MethodRun& pass : passes) {
+    if (!pass.error.empty()) {
+      MethodRun failed = pass;
+      failed.passes = count;
+      return failed;
+    }
+  }
+  MethodRun combined = passes.front();
+  combined.passes = count;
+  size_t n = combined.ms.size();
+  for (const MethodRun& pass : passes) n = std::min({n, pass.ms.size(), pass.trajectory.size()});
+  combined.ms.resize(n);
+  combined.trajectory.times.resize(n);
+  combined.trajectory.poses.resize(n);
+  std::vector<double> times(passes.size());
+  const size_t middle = passes.size() / 2;
+  for (size_t i = 0; i < n; ++i) {
+    for (size_t k = 0; k < passes.size(); ++k) times[k] = passes[k].ms[i];
+    std::nth_element(times.begin(), times.begin() + static_cast<long>(middle), times.end());
+    double median = times[middle];
+    if (passes.size() % 2 == 0) {
+      median = 0.5 * (median +
+                      *std::max_element(times.begin(), times.begin() + static_cast<long>(middle)));
+    }
+    combined.ms[i] = median;
+    for (const MethodRun& pass : passes) {
+      const double apart =
+          (pass.trajectory.poses[i].translation() - combined.trajectory.poses[i].translation())
+              .norm();
+      combined.pass_disagreement_m = std::max(combined.pass_disagreement_m, apart);
+    }
+  }
+  for (const MethodRun& pass : passes) {
+    combined.peak_memory_mb = std::max(combined.peak_memory_mb, pass.peak_memory_mb);
+  }
+  return combined;
 }
 
 }  // namespace dlo::bench

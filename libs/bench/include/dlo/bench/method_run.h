@@ -23,6 +23,9 @@ struct MethodRun {
   double baseline_memory_mb = 0.0;  ///< resident memory of that process before the first scan
   std::string error;                ///< empty when the run completed
   std::string input_warning;        ///< where the input broke, if it did (scans before it count)
+  int passes = 1;                   ///< runs combined into this one (combinePasses())
+  /// Largest distance between the positions the passes gave one scan (0: they agree).
+  double pass_disagreement_m = 0.0;
 };
 
 /// Feeds the first `max_frames` scans of `source` (all if negative) to a new instance of `spec`
@@ -39,5 +42,14 @@ MethodRun runMethod(const MethodSpec& spec, ScanSource& source, long max_frames,
 MethodRun runMethodIsolated(const MethodSpec& spec, const std::string& rawlog,
                             const ScanSourceOptions& options, long max_frames,
                             bool progress = false);
+
+/// Several runs of one method over the same scans (dlo-bench --repeat) as one run: each scan's
+/// time is the median of its times in the passes (of the two middle ones for an even count), so
+/// that a pass slowed by the machine's other work moves a scan's time only if most passes were;
+/// the trajectory, warning and baseline memory are the first pass's, the peak memory the
+/// largest, and pass_disagreement_m how far apart the passes placed any one scan. The first
+/// pass with an error is returned as it is; passes of different lengths are cut to the
+/// shortest. Throws std::invalid_argument for no pass.
+MethodRun combinePasses(const std::vector<MethodRun>& passes);
 
 }  // namespace dlo::bench
