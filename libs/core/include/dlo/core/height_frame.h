@@ -72,6 +72,10 @@ class HeightFrame {
                               const SelectionParams& selection, bool include_ground);
 
   const std::vector<FrameLevel>& levels() const { return levels_; }
+  /// HeightGrid::warmCaches() for every level.
+  void warmCaches() const {
+    for (const FrameLevel& level : levels_) level.grid.warmCaches();
+  }
   bool empty() const { return levels_.empty() || levels_.front().grid.validCellCount() == 0; }
   /// False for a frame built FrameUse::kCurrentOnly: its samplers are not usable.
   bool canBeReference() const { return can_be_reference_; }

@@ -131,6 +131,10 @@ class HeightGrid {
   /// Heights as an image (CV_32F, rows x cols, row 0 = y_min); invalid cells hold NaN.
   cv::Mat heightImage() const;
 
+  /// Reads every cache line of the grid's arrays (counts, sums, heights, flags), so that the next
+  /// build finds them in the cache after other work has evicted them. Changes nothing.
+  void warmCaches() const;
+
   /// Raw row-major arrays, for fast loops.
   const std::vector<float>& heights() const { return height_; }
   const std::vector<std::uint8_t>& validMask() const { return valid_; }

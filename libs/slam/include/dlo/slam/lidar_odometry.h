@@ -58,6 +58,12 @@ class LidarOdometry {
   OdometryStep process(double time, const PointCloud& points,
                        const std::vector<float>& point_times);
 
+  /// Brings the buffers the next scan's grids are built in (about 3 MB at 400 x 400 cells) back
+  /// into the cache, from which a keyframe's work evicts them (decimation, local map, loop
+  /// search: some 15 MB of memory traffic): the scan after a keyframe then builds its grid as
+  /// fast as the others. Read-only; SlamPipeline calls it at the end of a keyframe's scan.
+  void warmCaches() const { current_.warmCaches(); }
+
   /// The parameters in use: the constructor's, with the sparse sensor's grid once the first
   /// scan has shown one (see OdometryParams::sparse_scan_points).
   const SlamParams& params() const { return params_; }
