@@ -40,6 +40,18 @@ std::string inputError(const std::function<void()>& read, const std::string& pat
   return {};
 }
 
+/// The error of a rawlog whose first entry cannot be read: the reader gives no scan and reports
+/// entry 0 corrupt in one message naming `path`.
+std::string firstEntryCorrupt(const std::string& path) {
+  RawlogScanSource source(path);
+  TimedScan scan;
+  EXPECT_FALSE(source.next(scan));
+  const std::string& error = source.stats().error;
+  EXPECT_NE(error.find("corrupt at entry 0"), std::string::npos) << error;
+  EXPECT_NE(error.find(path), std::string::npos) << error;
+  return error;
+}
+
 TEST(FuzzRegression, PlyDoubleCoordinatesBeyondFloatRangeAreDroppedNotMadeInfinite) {
   // A big-endian file whose double z is 1e300 in one vertex: as a float it was infinite.
   const PointCloud points = loadPlyFile(regression("ply/double-beyond-float-range.ply"));
@@ -111,29 +123,18 @@ TEST(FuzzRegression, RawlogBoolFieldHoldingAnyByteIsReadWithoutUndefinedBehaviou
 TEST(FuzzRegression, RawlogActionCollectionHoldingANonActionIsCorruptNotANullDereference) {
   // An action collection whose first element is an mrpt::img::TCamera: MRPT's
   // CActionCollection::serializeFrom clones the element as an action, a null pointer (SEGV).
-  const std::string path = regression("rawlog/action-collection-holding-a-camera.rawlog");
-  RawlogScanSource source(path);
-  TimedScan scan;
-  EXPECT_FALSE(source.next(scan));
-  const std::string& error = source.stats().error;
-  EXPECT_NE(error.find("corrupt at entry 0"), std::string::npos) << error;
+  const std::string error =
+      firstEntryCorrupt(regression("rawlog/action-collection-holding-a-camera.rawlog"));
   EXPECT_NE(error.find("action collection holds TCamera where action 0 belongs"), std::string::npos)
       << error;
-  EXPECT_NE(error.find(path), std::string::npos) << error;
 }
 
 TEST(FuzzRegression, RawlogImageOfBillionsOfPixelsIsCorruptNotAnAbort) {
   // A 3D range scan whose intensity image declares 2e9 x 2.1e9 RGB pixels: MRPT has OpenCV
   // allocate the pixels before reading them (cv::fastMalloc asked malloc for 1.26e19 bytes,
   // which ASan refused by ending the fuzzer). The failed allocation is a corrupt entry.
-  const std::string path = regression("rawlog/image-of-4e18-pixels.rawlog");
-  RawlogScanSource source(path);
-  TimedScan scan;
-  EXPECT_FALSE(source.next(scan));
-  const std::string& error = source.stats().error;
-  EXPECT_NE(error.find("corrupt at entry 0"), std::string::npos) << error;
+  const std::string error = firstEntryCorrupt(regression("rawlog/image-of-4e18-pixels.rawlog"));
   EXPECT_NE(error.find("mrpt::img::CImage"), std::string::npos) << error;
-  EXPECT_NE(error.find(path), std::string::npos) << error;
 }
 
 TEST(FuzzRegression, PcapWithANonEthernetLinkTypeIsRejectedBeforeMrptFiltersIt) {

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "dlo/core/stage_times.h"
+#include "dlo/metrics/error_statistics.h"
 #include "dlo/mrpt/progress_bar.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 #include "dlo/slam/process_memory.h"
@@ -189,16 +190,9 @@ MethodRun combinePasses(const std::vector<MethodRun>& passes) {
   combined.trajectory.times.resize(n);
   combined.trajectory.poses.resize(n);
   std::vector<double> times(passes.size());
-  const size_t middle = passes.size() / 2;
   for (size_t i = 0; i < n; ++i) {
     for (size_t k = 0; k < passes.size(); ++k) times[k] = passes[k].ms[i];
-    std::nth_element(times.begin(), times.begin() + static_cast<long>(middle), times.end());
-    double median = times[middle];
-    if (passes.size() % 2 == 0) {
-      median = 0.5 * (median +
-                      *std::max_element(times.begin(), times.begin() + static_cast<long>(middle)));
-    }
-    combined.ms[i] = median;
+    combined.ms[i] = metrics::errorStatistics(times).median;
     for (const MethodRun& pass : passes) {
       const double apart =
           (pass.trajectory.poses[i].translation() - combined.trajectory.poses[i].translation())

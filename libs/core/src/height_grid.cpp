@@ -461,11 +461,15 @@ void poolPairs(const std::uint32_t* __restrict__ cnt, const float* __restrict__ 
 
 }  // namespace
 
+void HeightGrid::startPooling(const HeightGrid& finer) {
+  geometry_ = finer.geometry_.coarser();
+  min_points_ = finer.min_points_;
+  clearSums();
+}
+
 void HeightGrid::poolFrom(const HeightGrid& finer) {
   HeightGrid& g = *this;
-  g.geometry_ = finer.geometry_.coarser();
-  g.min_points_ = finer.min_points_;
-  g.clearSums();
+  g.startPooling(finer);
   const int cols = finer.geometry_.cols;
   for (int r = 0; r < finer.geometry_.rows; ++r) {
     const size_t coarse_at = static_cast<size_t>(r / 2) * g.geometry_.cols;
@@ -571,9 +575,7 @@ void HeightGrid::finalise(HeightGrid* coarser) {
     // Row by row, each row's pairs added into the coarse row while its cells are at hand: the
     // same sums in the same order as coarser->poolFrom(*this), without reading the counts and
     // sums (two megabytes at 400 x 400) a second time.
-    coarser->geometry_ = geometry_.coarser();
-    coarser->min_points_ = min_points_;
-    coarser->clearSums();
+    coarser->startPooling(*this);
     const int cols = geometry_.cols;
     const int coarse_cols = coarser->geometry_.cols;
     int valid_cells = 0;

@@ -145,6 +145,9 @@ class HeightGrid {
   /// Zeroes count_ and sum_z_ for geometry_: one entry per cell plus a few last "discard"
   /// cells that rasterisation sends rejected points to.
   void clearSums();
+  /// Makes this grid the empty coarser() level of `finer` (geometry, minimum points, zeroed
+  /// sums), ready for finer's cells to be pooled into it.
+  void startPooling(const HeightGrid& finer);
   /// Heights and valid flags from the counts and sums; with `coarser`, pools it from this grid
   /// in the same pass (then finalises it).
   void finalise(HeightGrid* coarser);
