@@ -18,6 +18,23 @@ inline Eigen::Matrix<Scalar, 3, 1> cellInReference(const SelectedCell& cell,
   return R * Eigen::Matrix<Scalar, 3, 1>(Scalar(cell.x), Scalar(cell.y), Scalar(cell.h)) + t;
 }
 
+/// The residual and Jacobian of heightResidual() from a cell's position q in the reference and
+/// the reference's sample there (h, gx, gy).
+template <int N, typename Scalar>
+inline void residualAt(const SelectedCell& cell, const Eigen::Matrix<Scalar, 3, 1>& q, float h,
+                       float gx_ref, float gy_ref, Scalar& e, Eigen::Matrix<Scalar, N, 1>& J) {
+  static_assert(N == 3 || N == 6, "3 or 6 degrees of freedom");
+  // A ground cell's gradient is sub-threshold noise: it observes height only.
+  const Scalar gx = cell.ground ? Scalar(0) : Scalar(gx_ref);
+  const Scalar gy = cell.ground ? Scalar(0) : Scalar(gy_ref);
+  e = Scalar(h) - q.z();
+  if constexpr (N == 6) {
+    J << gx, gy, Scalar(-1), -gy * q.z() - q.y(), gx * q.z() + q.x(), -gx * q.y() + gy * q.x();
+  } else {
+    J << gx, gy, -gx * q.y() + gy * q.x();
+  }
+}
+
 /// Residual of a current-frame cell p = (x, y, h) under the pose T (current in reference):
 /// with q = R p + t,
 ///   e = H_ref(q_x, q_y) - q_z.
@@ -36,19 +53,10 @@ inline bool heightResidual(const HeightSampler& reference, const SelectedCell& c
                            const Eigen::Matrix<Scalar, 3, 3>& R,
                            const Eigen::Matrix<Scalar, 3, 1>& t, Scalar& e,
                            Eigen::Matrix<Scalar, N, 1>& J) {
-  static_assert(N == 3 || N == 6, "3 or 6 degrees of freedom");
   const Eigen::Matrix<Scalar, 3, 1> q = cellInReference(cell, R, t);
   HeightSample s;
   if (!reference.sample(static_cast<double>(q.x()), static_cast<double>(q.y()), s)) return false;
-  // A ground cell's gradient is sub-threshold noise: it observes height only.
-  const Scalar gx = cell.ground ? Scalar(0) : Scalar(s.gx);
-  const Scalar gy = cell.ground ? Scalar(0) : Scalar(s.gy);
-  e = Scalar(s.h) - q.z();
-  if constexpr (N == 6) {
-    J << gx, gy, Scalar(-1), -gy * q.z() - q.y(), gx * q.z() + q.x(), -gx * q.y() + gy * q.x();
-  } else {
-    J << gx, gy, -gx * q.y() + gy * q.x();
-  }
+  residualAt<N>(cell, q, s.h, s.gx, s.gy, e, J);
   return true;
 }
 
