@@ -179,6 +179,16 @@ void writeText(const fs::path& path, const std::string& text) {
   dlo::writeBytesAtomically(path.string(), std::vector<unsigned char>(text.begin(), text.end()));
 }
 
+/// Whether --max-frames-slow stopped a slow method before the others: a slow method was run and
+/// some method processed more scans than the limit.
+bool slowLimitCut(const Arguments& args, const std::vector<dlo::bench::MethodRun>& runs) {
+  const bool any_slow =
+      std::any_of(args.methods.begin(), args.methods.end(), [](const auto* m) { return m->slow; });
+  return any_slow && std::any_of(runs.begin(), runs.end(), [&](const auto& run) {
+           return run.ms.size() > static_cast<size_t>(args.max_frames_slow);
+         });
+}
+
 std::string notes(const Arguments& args, const std::vector<dlo::bench::MethodRow>& rows,
                   const std::vector<dlo::bench::MethodRun>& runs) {
   double baseline = 0.0;
@@ -216,10 +226,19 @@ std::string notes(const Arguments& args, const std::vector<dlo::bench::MethodRow
     if (agree) o << " Every method gave the same trajectory in every pass.";
     o << "\n";
   }
-  o << "* Slow methods are limited to the first " << args.max_frames_slow
-    << " scans (--max-frames-slow)";
-  if (args.max_frames > 0) o << ", all methods to " << args.max_frames << " (--max-frames)";
-  o << ".\n";
+  // The slow methods' limit is stated where it cut them short of the others, not when every
+  // method ran the same scans.
+  const bool slow_cut = slowLimitCut(args, runs);
+  if (slow_cut || args.max_frames > 0) {
+    if (slow_cut) {
+      o << "* Slow methods are limited to the first " << args.max_frames_slow
+        << " scans (--max-frames-slow)";
+      if (args.max_frames > 0) o << ", all methods to " << args.max_frames << " (--max-frames)";
+    } else {
+      o << "* All methods are limited to the first " << args.max_frames << " scans (--max-frames)";
+    }
+    o << ".\n";
+  }
   for (const auto& r : rows) {
     if (!r.error.empty()) o << "* " << r.method << ": " << r.error << "\n";
   }
@@ -291,10 +310,9 @@ int run(const Arguments& args, const std::string& command) {
      << dlo::bench::tableMarkdown(rows) << notes(args, rows, runs);
   // The slow methods see only the start of the sequence: the same span for the others, so that
   // accuracy is compared on equal ground.
-  const bool any_slow =
-      std::any_of(args.methods.begin(), args.methods.end(), [](const auto* m) { return m->slow; });
+  const bool slow_cut = slowLimitCut(args, runs);
   std::vector<dlo::bench::MethodRow> first;
-  for (size_t i = 0; i < runs.size() && any_slow; ++i) {
+  for (size_t i = 0; i < runs.size() && slow_cut; ++i) {
     if (runs[i].ms.size() > static_cast<size_t>(args.max_frames_slow)) {
       first.push_back(dlo::bench::evaluateRun(runs[i], args.methods[i]->preprocessing, ground_truth,
                                               args.max_frames_slow));

@@ -161,6 +161,24 @@ TEST_F(DloBenchApp, MethodsAndFrameLimitsAreHonoured) {
   EXPECT_EQ(metrics::readTumTrajectory((dir / "dlo-paper.tum").string()).size(), 4u);
   EXPECT_EQ(metrics::readTumTrajectory((dir / "icp.tum").string()).size(), 4u);
   EXPECT_FALSE(fs::exists(dir / "dlo.tum"));
+  // Every method ran the same 4 scans: only --max-frames limited them, and there is no table of
+  // the slow methods' span.
+  const std::string md = readFile(dir / "table.md");
+  EXPECT_NE(md.find("* All methods are limited to the first 4 scans (--max-frames)."),
+            std::string::npos)
+      << md;
+  EXPECT_EQ(md.find("--max-frames-slow"), std::string::npos) << md;
+  EXPECT_EQ(md.find("The same runs over their first"), std::string::npos) << md;
+  // The shared run cut the slow methods at kSlowFrames scans of kFrames: stated, and the
+  // others' first kSlowFrames scans tabled.
+  const std::string shared = readFile(out() / "table.md");
+  EXPECT_NE(shared.find("* Slow methods are limited to the first " + std::to_string(kSlowFrames) +
+                        " scans (--max-frames-slow)."),
+            std::string::npos)
+      << shared;
+  EXPECT_NE(shared.find("The same runs over their first " + std::to_string(kSlowFrames)),
+            std::string::npos)
+      << shared;
 }
 
 TEST_F(DloBenchApp, RepeatTimesEveryMethodInRoundsAndChecksThePassesAgree) {
