@@ -76,7 +76,9 @@ class HeightSampler {
     const __m128d inv = _mm_set1_pd(inv_resolution_), half = _mm_set1_pd(0.5);
     const __m128d u_end = _mm_set1_pd(cols - 1), v_end = _mm_set1_pd(geometry_.rows - 1);
     const __m128d zero = _mm_setzero_pd();
-    alignas(16) float a[4], b[4];
+    // The fractions of lanes 2 pair and 2 pair + 1 in the low half of each; joined in registers
+    // (stored as floats and reloaded as a vector, they stalled store-to-load forwarding).
+    __m128 fa[2], fb[2];
     int at[4];
     for (int pair = 0; pair < 2; ++pair) {
       // lowerLeft() for lanes 2 pair and 2 pair + 1.
@@ -89,23 +91,18 @@ class HeightSampler {
       const int mask = _mm_movemask_pd(inside);
       // Truncation, as static_cast<int>; lanes outside may hold anything and are not used.
       const __m128i c = _mm_cvttpd_epi32(u), r = _mm_cvttpd_epi32(v);
-      const __m128 fa = _mm_cvtpd_ps(_mm_sub_pd(u, _mm_cvtepi32_pd(c)));
-      const __m128 fb = _mm_cvtpd_ps(_mm_sub_pd(v, _mm_cvtepi32_pd(r)));
+      fa[pair] = _mm_cvtpd_ps(_mm_sub_pd(u, _mm_cvtepi32_pd(c)));
+      fb[pair] = _mm_cvtpd_ps(_mm_sub_pd(v, _mm_cvtepi32_pd(r)));
       alignas(16) int ci[4], ri[4];
       _mm_store_si128(reinterpret_cast<__m128i*>(ci), c);
       _mm_store_si128(reinterpret_cast<__m128i*>(ri), r);
-      alignas(16) float fav[4], fbv[4];
-      _mm_store_ps(fav, fa);
-      _mm_store_ps(fbv, fb);
       for (int j = 0; j < 2; ++j) {
         const bool in = (mask >> j) & 1;
         at[2 * pair + j] = in ? ri[j] * cols + ci[j] : -1;
-        a[2 * pair + j] = fav[j];
-        b[2 * pair + j] = fbv[j];
       }
     }
     const __m128 one = _mm_set1_ps(1.0f);
-    const __m128 av = _mm_load_ps(a), bv = _mm_load_ps(b);
+    const __m128 av = _mm_movelh_ps(fa[0], fa[1]), bv = _mm_movelh_ps(fb[0], fb[1]);
     alignas(16) float w[4][4];  // w00, w01, w10, w11 of each lane
     _mm_store_ps(w[0], _mm_mul_ps(_mm_sub_ps(one, av), _mm_sub_ps(one, bv)));
     _mm_store_ps(w[1], _mm_mul_ps(av, _mm_sub_ps(one, bv)));
