@@ -189,8 +189,9 @@ bool slowLimitCut(const Arguments& args, const std::vector<dlo::bench::MethodRun
          });
 }
 
+/// The notes under the table; `slow_cut` is slowLimitCut().
 std::string notes(const Arguments& args, const std::vector<dlo::bench::MethodRow>& rows,
-                  const std::vector<dlo::bench::MethodRun>& runs) {
+                  const std::vector<dlo::bench::MethodRun>& runs, bool slow_cut) {
   double baseline = 0.0;
   for (const auto& run : runs) baseline = std::max(baseline, run.baseline_memory_mb);
   std::ostringstream o;
@@ -228,7 +229,6 @@ std::string notes(const Arguments& args, const std::vector<dlo::bench::MethodRow
   }
   // The slow methods' limit is stated where it cut them short of the others, not when every
   // method ran the same scans.
-  const bool slow_cut = slowLimitCut(args, runs);
   if (slow_cut || args.max_frames > 0) {
     if (slow_cut) {
       o << "* Slow methods are limited to the first " << args.max_frames_slow
@@ -272,19 +272,24 @@ int run(const Arguments& args, const std::string& command) {
   // Round after round, every method once per round: each is timed over the whole benchmark's
   // span of the machine's load, not in a window of its own.
   std::vector<std::vector<dlo::bench::MethodRun>> passes(args.methods.size());
+  // Scans per method (negative: all): --max-frames, and --max-frames-slow for the slow ones.
+  std::vector<long> limits;
+  for (const dlo::bench::MethodSpec* spec : args.methods) {
+    const long limit = args.max_frames;
+    limits.push_back(!spec->slow ? limit
+                     : limit < 0 ? args.max_frames_slow
+                                 : std::min(limit, args.max_frames_slow));
+  }
   for (long round = 1; round <= args.repeat; ++round) {
     for (size_t m = 0; m < args.methods.size(); ++m) {
       const dlo::bench::MethodSpec* spec = args.methods[m];
-      long limit = args.max_frames;
-      if (spec->slow)
-        limit = limit < 0 ? args.max_frames_slow : std::min(limit, args.max_frames_slow);
       if (!args.quiet) {
         std::cerr << "dlo-bench: " << spec->name;
         if (args.repeat > 1) std::cerr << " (round " << round << " of " << args.repeat << ")";
         std::cerr << "\n";
       }
       passes[m].push_back(
-          dlo::bench::runMethodIsolated(*spec, args.input, options, limit, !args.quiet));
+          dlo::bench::runMethodIsolated(*spec, args.input, options, limits[m], !args.quiet));
     }
   }
   for (size_t m = 0; m < args.methods.size(); ++m) {
@@ -305,12 +310,12 @@ int run(const Arguments& args, const std::string& command) {
     }
   }
 
-  std::ostringstream md;
-  md << "Command: `" << command << "`  \nMachine: " << machine() << "\n\n"
-     << dlo::bench::tableMarkdown(rows) << notes(args, rows, runs);
   // The slow methods see only the start of the sequence: the same span for the others, so that
   // accuracy is compared on equal ground.
   const bool slow_cut = slowLimitCut(args, runs);
+  std::ostringstream md;
+  md << "Command: `" << command << "`  \nMachine: " << machine() << "\n\n"
+     << dlo::bench::tableMarkdown(rows) << notes(args, rows, runs, slow_cut);
   std::vector<dlo::bench::MethodRow> first;
   for (size_t i = 0; i < runs.size() && slow_cut; ++i) {
     if (runs[i].ms.size() > static_cast<size_t>(args.max_frames_slow)) {
