@@ -20,7 +20,8 @@ namespace {
 
 constexpr const char* kUsage =
     R"(Usage: dlo-simulate --out DIR [--frames N] [--sensor HDL64|HDL32|VLP16] [--seed S]
-                    [--threads T] [--quiet] [--help]
+                    [--corner-transition M] [--patrol [--speed V] [--turn-rate W]]
+                    [--no-point-times] [--threads T] [--quiet] [--help]
 
 Simulates a LiDAR on a car driving laps around a 60 x 40 m block of a procedural town on
 rolling hills (roads with crown and kerbs, buildings, trees, poles, parked and moving cars),
@@ -39,6 +40,20 @@ Options:
   --frames N     number of sweeps, 10 per second (default 300)
   --sensor S     VLP16, HDL32 or HDL64 (default HDL64)
   --seed S       world and noise seed; the same seed gives byte-identical files (default 1)
+  --corner-transition M
+                 metres of clothoid over which each corner's curvature ramps up and down
+                 (default 8); 0 makes circular corners, whose yaw rate steps from zero to
+                 about 34 deg/s and back within a firing, as a brisk driver or a robot does
+  --patrol       a robot's patrol instead of the car's laps: around the same block at
+                 --speed, stopping at each crossing to turn 90 deg on the spot at
+                 --turn-rate (the yaw rate steps), after turning round twice (180 deg) at
+                 the start; about 170 s per lap at 1.5 m/s
+  --speed V      patrol speed, m/s in [0.2, 5] (default 1.5)
+  --turn-rate W  patrol turn rate on the spot, deg/s in [10, 180] (default 90)
+  --no-point-times
+                 write each sweep as an mrpt::obs::CObservationPointCloud of the same points
+                 (sensor frame, firing order, motion distortion included) without per-point
+                 times, as KITTI files and most point-cloud inputs come
   --threads T    worker threads (default 2); the output does not depend on it
   --quiet        no progress on stderr
   --help         prints this text
@@ -58,6 +73,11 @@ struct Arguments {
   dlo::sim::SensorType sensor = dlo::sim::SensorType::HDL64;
   uint32_t seed = 1;
   int threads = 2;
+  double corner_transition = 8.0;
+  bool patrol = false;
+  double speed = 1.5;
+  double turn_rate = 90.0;
+  bool no_point_times = false;
   bool quiet = false;
   bool help = false;
 };
@@ -67,6 +87,17 @@ long parseInteger(const std::string& name, const std::string& text, long lo, lon
   try {
     size_t used = 0;
     const long v = std::stol(text, &used);
+    if (used == text.size() && v >= lo && v <= hi) return v;
+  } catch (const std::exception&) {
+  }
+  throw UserError{name + " must be " + expected + ", got '" + text + "'."};
+}
+
+double parseNumber(const std::string& name, const std::string& text, double lo, double hi,
+                   const std::string& expected) {
+  try {
+    size_t used = 0;
+    const double v = std::stod(text, &used);
     if (used == text.size() && v >= lo && v <= hi) return v;
   } catch (const std::exception&) {
   }
@@ -85,13 +116,22 @@ Arguments parseArguments(int argc, char** argv) {
       a.quiet = true;
       continue;
     }
+    if (arg == "--patrol") {
+      a.patrol = true;
+      continue;
+    }
+    if (arg == "--no-point-times") {
+      a.no_point_times = true;
+      continue;
+    }
     std::string value;
     const auto eq = arg.find('=');
     if (eq != std::string::npos && arg.rfind("--", 0) == 0) {
       value = arg.substr(eq + 1);
       arg = arg.substr(0, eq);
     } else if (arg == "--out" || arg == "--frames" || arg == "--sensor" || arg == "--seed" ||
-               arg == "--threads") {
+               arg == "--threads" || arg == "--corner-transition" || arg == "--speed" ||
+               arg == "--turn-rate") {
       if (i + 1 >= argc) throw UserError{arg + " needs a value."};
       value = argv[++i];
     }
@@ -106,6 +146,13 @@ Arguments parseArguments(int argc, char** argv) {
     } else if (arg == "--seed") {
       a.seed = static_cast<uint32_t>(
           parseInteger("--seed", value, 0, 4294967295L, "an integer in [0, 4294967295]"));
+    } else if (arg == "--corner-transition") {
+      a.corner_transition =
+          parseNumber("--corner-transition", value, 0.0, 15.0, "a number of metres in [0, 15]");
+    } else if (arg == "--speed") {
+      a.speed = parseNumber("--speed", value, 0.2, 5.0, "a speed in [0.2, 5] m/s");
+    } else if (arg == "--turn-rate") {
+      a.turn_rate = parseNumber("--turn-rate", value, 10.0, 180.0, "a rate in [10, 180] deg/s");
     } else if (arg == "--threads") {
       a.threads =
           static_cast<int>(parseInteger("--threads", value, 1, 64, "an integer in [1, 64]"));
@@ -159,8 +206,10 @@ int run(const Arguments& a) {
 
   const auto world = dlo::sim::ProceduralWorld::generate(a.seed);
   const dlo::sim::WorldParams layout;
-  const auto route = dlo::sim::Route::roundedRectangle(layout.loopMin, layout.loopMax,
-                                                       /*radius=*/10.0, /*transitionLength=*/8.0);
+  const auto route =
+      a.patrol ? dlo::sim::Route::patrol(layout.loopMin, layout.loopMax, a.speed, a.turn_rate)
+               : dlo::sim::Route::roundedRectangle(layout.loopMin, layout.loopMax,
+                                                   /*radius=*/10.0, a.corner_transition);
   const dlo::sim::VehicleTrajectory trajectory(route, world.terrain());
   dlo::sim::SweepSimulatorParams params;
   params.model = dlo::sim::makeLidarModel(a.sensor);
@@ -181,7 +230,11 @@ int run(const Arguments& a) {
     const dlo::sim::Sweep sweep = simulator.simulate(k);
     const auto obs =
         dlo::toVelodyneScan(sweep, simulator, trajectory.sensorMount(), epoch, "LIDAR");
-    archive << *obs;
+    if (a.no_point_times) {
+      archive << *dlo::withoutPointTimes(*obs);
+    } else {
+      archive << *obs;
+    }
     const Eigen::Isometry3d pose =
         trajectory.vehiclePose(static_cast<double>(sweep.referenceTimeNs) * 1e-9);
     std::fputs(tumLine(tumTimestamp(kEpochSeconds, sweep.referenceTimeNs), pose).c_str(), tum);

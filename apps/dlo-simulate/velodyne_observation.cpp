@@ -1,5 +1,6 @@
 #include "velodyne_observation.h"
 
+#include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/math/CMatrixFixed.h>
 #include <mrpt/poses/CPose3D.h>
 #include <algorithm>
@@ -134,6 +135,20 @@ mrpt::obs::CObservationVelodyneScan::Ptr toVelodyneScan(const sim::Sweep& sweep,
     bytes.u8(1205, modelId);
     bytes.copyTo(obs->scan_packets[p]);
   }
+  return obs;
+}
+
+mrpt::obs::CObservationPointCloud::Ptr withoutPointTimes(
+    const mrpt::obs::CObservationVelodyneScan& scan) {
+  auto obs = mrpt::obs::CObservationPointCloud::Create();
+  obs->sensorLabel = scan.sensorLabel;
+  obs->timestamp = scan.timestamp;
+  obs->sensorPose = scan.sensorPose;
+  auto map = mrpt::maps::CSimplePointsMap::Create();
+  const auto& pc = scan.point_cloud;
+  map->reserve(pc.size());
+  for (size_t i = 0; i < pc.size(); ++i) map->insertPointFast(pc.x[i], pc.y[i], pc.z[i]);
+  obs->pointcloud = map;
   return obs;
 }
 

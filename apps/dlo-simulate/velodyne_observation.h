@@ -2,6 +2,7 @@
 #pragma once
 
 #include <mrpt/core/Clock.h>
+#include <mrpt/obs/CObservationPointCloud.h>
 #include <mrpt/obs/CObservationVelodyneScan.h>
 #include <Eigen/Geometry>
 #include <string>
@@ -34,6 +35,12 @@ mrpt::obs::CObservationVelodyneScan::Ptr toVelodyneScan(const sim::Sweep& sweep,
                                                         const std::string& sensorLabel);
 
 /// `epoch` plus a duration in nanoseconds, at MRPT's 100 ns clock resolution.
+/// The points of `scan`'s point_cloud (sensor frame, firing order) as a CObservationPointCloud
+/// of a CSimplePointsMap, with the same timestamp, label and sensorPose but no per-point times:
+/// what KITTI files and most point-cloud inputs give.
+mrpt::obs::CObservationPointCloud::Ptr withoutPointTimes(
+    const mrpt::obs::CObservationVelodyneScan& scan);
+
 mrpt::Clock::time_point addNanoseconds(mrpt::Clock::time_point epoch, int64_t ns);
 
 }  // namespace dlo

@@ -13,6 +13,7 @@
 #include "dlo/core/direct_aligner.h"
 #include "dlo/core/dlo_params.h"
 #include "dlo/core/height_frame.h"
+#include "dlo/core/sweep_timing.h"
 #include "dlo/mrpt/scan_file.h"
 #include "dlo/slam/lidar_odometry.h"
 
@@ -46,6 +47,21 @@ dlo::DloParams paramsFor(int dof) {
   dlo::DloParams p;
   p.solver.dof = dof;
   return p;
+}
+
+/// Per-point times from the azimuths of the whole real HDL-64 scan (124,668 points), what a
+/// scan without times costs before it is deskewed.
+void BM_EstimateSweepTimes(benchmark::State& state) {
+  const dlo::PointCloud scan =
+      dlo::loadKittiBin(std::string(DLO_SHARED_DATA_DIR) + "/kitti_00_000000.bin.gz");
+  std::vector<float> times;
+  for (auto _ : state) {
+    const dlo::SweepTimingEstimate e =
+        dlo::estimateSweepTimes(scan, dlo::SweepTimingParams(), times);
+    benchmark::DoNotOptimize(e);
+    benchmark::DoNotOptimize(times.data());
+  }
+  state.counters["points"] = static_cast<double>(scan.size());
 }
 
 void BM_RasteriseFinestGrid(benchmark::State& state) {
@@ -247,6 +263,7 @@ void BM_OdometryStep(benchmark::State& state) {
 BENCHMARK(BM_GaussNewtonIteration)->Arg(3)->Arg(6)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OdometryStep)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RasteriseFinestGrid)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EstimateSweepTimes)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PyramidAndHoleFilling)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Gradients)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Selection)->Unit(benchmark::kMillisecond);

@@ -332,6 +332,11 @@ bool refine(const SolverParams& p, const HeightFrame& reference, const HeightFra
 }
 
 template <int N>
+double meanCost(const NormalEquations<N>& eq, size_t cells) {
+  return cells > 0 ? eq.cost / static_cast<double>(cells) : 0.0;
+}
+
+template <int N>
 AlignmentResult alignImpl(const SolverParams& p, const HeightFrame& reference,
                           const HeightFrame& current, const Eigen::Isometry3d& initial_guess) {
   Stopwatch sw;
@@ -398,6 +403,7 @@ AlignmentResult alignImpl(const SolverParams& p, const HeightFrame& reference,
         initial_guess;
   }
   res.cells = eq.n;
+  res.cost = meanCost(eq, current.levels()[0].cells.size());
   res.rms_height_error = eq.n > 0 ? std::sqrt(eq.sq / eq.n) : 0.0;
   res.covariance = toTwistCovariance<N>(sys.covariance(uncertain));
   T.linear() = Eigen::Quaterniond(T.linear()).normalized().toRotationMatrix();
@@ -407,6 +413,16 @@ AlignmentResult alignImpl(const SolverParams& p, const HeightFrame& reference,
 }
 
 }  // namespace
+
+double DirectAligner::cost(const HeightFrame& reference, const HeightFrame& current,
+                           const Eigen::Isometry3d& pose) const {
+  if (reference.levels().empty() || current.levels().empty()) return 0.0;
+  const std::vector<SelectedCell>& cells = current.levels()[0].cells;
+  const HeightSampler& sampler = reference.levels()[0].sampler;
+  const double d = params_.huber_delta, m = params_.max_residual;
+  return params_.dof == 6 ? meanCost(linearise<6>(sampler, cells, pose, d, m), cells.size())
+                          : meanCost(linearise<3>(sampler, cells, pose, d, m), cells.size());
+}
 
 DirectAligner::DirectAligner(const SolverParams& params) : params_(params) {}
 

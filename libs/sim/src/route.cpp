@@ -198,10 +198,111 @@ void Route::buildSpeedProfile(const SpeedLimits& limits) {
   for (int k = 0; k < n; ++k) times_[k + 1] = times_[k] + 2.0 * ds_ / (v[k] + v[k + 1]);
 }
 
+Route Route::patrol(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, double speed,
+                    double yawRateDeg, double accel) {
+  const auto positive = [](double v) { return v > 0.0 && std::isfinite(v); };
+  if (!positive(speed) || !positive(yawRateDeg) || !positive(accel))
+    throw std::invalid_argument("Route: patrol speed, yaw rate and acceleration must be positive");
+  if (!(hi.x() - lo.x() >= 20.0 && hi.y() > lo.y()))
+    throw std::invalid_argument("Route: the patrol's rectangle is too small");
+  Route r;
+  r.speed_ = speed;
+  r.accel_ = accel;
+  r.yawRate_ = yawRateDeg * M_PI / 180.0;
+  Eigen::Vector2d at(0.5 * (lo.x() + hi.x()), lo.y());
+  double heading = 0.0, t = 0.0, s = 0.0;
+  const auto drive = [&](double distance) {
+    Piece p;
+    p.t0 = t;
+    p.start = at;
+    p.heading = heading;
+    p.distance = distance;
+    p.s0 = s;
+    // Trapezoidal speed profile, or triangular when the drive is too short to reach the speed.
+    const double ramp = speed * speed / accel;  // both ramps' distance
+    p.duration =
+        distance >= ramp ? distance / speed + speed / accel : 2.0 * std::sqrt(distance / accel);
+    r.pieces_.push_back(p);
+    at += distance * Eigen::Vector2d(std::cos(heading), std::sin(heading));
+    t += p.duration;
+    s += distance;
+  };
+  const auto turn = [&](double angle) {
+    Piece p;
+    p.t0 = t;
+    p.start = at;
+    p.heading = heading;
+    p.turn = angle;
+    p.s0 = s;
+    p.duration = std::fabs(angle) / r.yawRate_;
+    r.pieces_.push_back(p);
+    heading += angle;
+    t += p.duration;
+  };
+  const double halfW = 0.5 * (hi.x() - lo.x()), height = hi.y() - lo.y();
+  drive(10.0);
+  turn(M_PI);
+  drive(10.0);
+  turn(M_PI);
+  drive(halfW);
+  turn(0.5 * M_PI);
+  drive(height);
+  turn(0.5 * M_PI);
+  drive(2.0 * halfW);
+  turn(0.5 * M_PI);
+  drive(height);
+  turn(0.5 * M_PI);
+  drive(halfW);
+  r.length_ = s;
+  r.times_ = {0.0, t};
+  return r;
+}
+
+RouteState Route::patrolStateAt(double tau) const {
+  size_t k = 0;
+  while (k + 1 < pieces_.size() && tau >= pieces_[k + 1].t0) ++k;
+  const Piece& p = pieces_[k];
+  const double u = std::clamp(tau - p.t0, 0.0, p.duration);
+  RouteState st;
+  st.heading = p.heading;
+  st.position = p.start;
+  st.distance = p.s0;
+  if (p.turn != 0.0) {
+    const double sign = p.turn > 0.0 ? 1.0 : -1.0;
+    st.heading = p.heading + sign * yawRate_ * u;
+    st.yawRate = u < p.duration ? sign * yawRate_ : 0.0;
+    return st;
+  }
+  // Distance and speed along the trapezoid (or triangle) of the drive.
+  const double top = std::min(speed_, std::sqrt(p.distance * accel_));
+  const double rampT = top / accel_;
+  double d, v;
+  if (u < rampT) {
+    v = accel_ * u;
+    d = 0.5 * accel_ * u * u;
+  } else if (u > p.duration - rampT) {
+    const double w = p.duration - u;
+    v = accel_ * w;
+    d = p.distance - 0.5 * accel_ * w * w;
+  } else {
+    v = top;
+    d = 0.5 * top * rampT + top * (u - rampT);
+  }
+  st.position = p.start + d * Eigen::Vector2d(std::cos(p.heading), std::sin(p.heading));
+  st.speed = v;
+  st.distance = p.s0 + d;
+  return st;
+}
+
 RouteState Route::stateAt(double t) const {
   const double lapT = times_.back();
   const double laps = std::floor(t / lapT);
   const double tau = t - laps * lapT;
+  if (!pieces_.empty()) {
+    RouteState st = patrolStateAt(tau);
+    st.distance += laps * length_;
+    return st;
+  }
   const int k = static_cast<int>(
       std::clamp<long>(std::upper_bound(times_.begin(), times_.end(), tau) - times_.begin() - 1, 0,
                        static_cast<long>(times_.size()) - 2));

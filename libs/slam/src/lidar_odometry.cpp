@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "dlo/core/deskew.h"
+#include "dlo/core/sweep_timing.h"
 
 namespace dlo {
 
@@ -12,6 +14,13 @@ constexpr double kDeg = M_PI / 180.0;
 /// Variance of what a rejected registration could not tell, as DirectAligner gives directions it
 /// cannot observe.
 constexpr double kUnobservedVariance = 1e6;
+/// Two registrations of one scan closer than this fraction of odometry.max_prior_deviation give
+/// the same answer.
+constexpr double kSameAnswer = 0.25;
+/// Where the scan's answers differ, the best is taken if its cost is this fraction below every
+/// other answer's and the prediction's.
+constexpr double kClearMargin = 0.1;
+constexpr double kPriorScale = 2.0;
 /// Velocity measurements before the constant-velocity prediction is trusted to reject a scan.
 constexpr size_t kSettledVelocityUpdates = 5;
 
@@ -61,8 +70,9 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   // Otherwise it is deskewed while it is rasterised, with no copy (deskew_ms is then the motion
   // table only and grid_ms includes moving the points), and copied only for a keyframe.
   Stopwatch deskew_watch;
-  const bool deskew = params_.odometry.deskew != 0 && !point_times.empty() && frames_ > 0;
-  const SweepMotion motion = deskew ? SweepMotion(point_times, velocity_) : SweepMotion();
+  const std::vector<float>& times = sweepTimes(points, point_times, step);
+  const bool deskew = !times.empty() && frames_ > 0;
+  const SweepMotion motion = deskew ? SweepMotion(times, velocity_) : SweepMotion();
   const bool copy = deskew && params_.odometry.reference == 3;
   if (copy) dlo::deskew(points, motion, deskewed_);
   const PointCloud& cloud = copy ? deskewed_ : points;
@@ -82,10 +92,8 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     pose = reference_pose_ * step.registration.pose;
     step.registered = true;
     step.times.registration.solve_ms += step.registration.times.solve_ms;
-    if (dt > 0.0 && dt < 1.0 && implausible(predicted, pose)) {
-      keepPrediction(predicted, step.registration);
-      step.rejected = true;
-      pose = predicted;
+    if (dt > 0.0 && dt < 1.0 && disagrees(predicted, pose)) {
+      pose = decideByEvidence(predicted, dt, step);
     } else if (rejected_run_ >= params_.odometry.max_rejected_scans) {
       // A run of rejections ended by believing the registration again: the jump back makes
       // the next predictions wrong for a while, so the velocity must settle again before the
@@ -123,9 +131,9 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   const bool first = frames_ == 0;
   if (!current_.empty() && (first || (hasStructure() && needsKeyframe(pose, step.registration)))) {
     addKeyframe(pose, cloud, pending, step);
-    if (first && params_.odometry.deskew != 0 && !point_times.empty()) {
+    if (first && !times.empty()) {
       first_points_ = points;
-      first_times_ = point_times;
+      first_times_ = times;
     }
   }
   if (params_.odometry.reference == 0 && !current_.empty()) {
@@ -152,8 +160,110 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   return step;
 }
 
-bool LidarOdometry::implausible(const Eigen::Isometry3d& predicted,
-                                const Eigen::Isometry3d& pose) const {
+Eigen::Isometry3d LidarOdometry::decideByEvidence(const Eigen::Isometry3d& predicted, double dt,
+                                                  OdometryStep& step) {
+  // The prediction is a guess from the past; the scan is the measurement. A registration far
+  // from the prediction is either right (the vehicle stopped turning, braked, started to turn
+  // on the spot) or in a wrong basin (a large moving object, a scene that constrains little).
+  // Registrations from other starts tell them apart: no motion since the last scan, and the
+  // last interval's motion repeated as measured (the prediction averages two intervals and
+  // limits the change). Where they all end in the same place, the scan has one clear answer
+  // and it is taken, however far from the prediction. Where they end in different places, the
+  // scan is ambiguous: the best fit (mean robust cost of the same cells) is taken only if it
+  // fits clearly better than the other answers and than the prediction itself; otherwise the
+  // prediction is kept.
+  const OdometryParams& o = params_.odometry;
+  const Eigen::Isometry3d to_reference = reference_pose_.inverse();
+  std::vector<Eigen::Isometry3d> starts = {last_pose_};
+  if (frames_ >= 2 && last_time_ - before_last_time_ > 0.0 &&
+      last_time_ - before_last_time_ < 1.0) {
+    const Vector6d last =
+        logSE3(before_last_pose_.inverse() * last_pose_) * (dt / (last_time_ - before_last_time_));
+    starts.push_back(last_pose_ * expSE3(last));
+  }
+  struct Candidate {
+    AlignmentResult r;
+    Eigen::Isometry3d pose;  ///< odometry frame
+  };
+  std::vector<Candidate> candidates = {
+      {step.registration, reference_pose_ * step.registration.pose}};
+  // Starts closer than this to one already tried would end in the same place; results closer
+  // than this are the same answer.
+  const double same = kSameAnswer * o.max_prior_deviation;
+  for (const Eigen::Isometry3d& start : starts) {
+    if (deviation(start, predicted) < same) continue;
+    const AlignmentResult r = aligner_.align(reference_, current_, to_reference * start);
+    ++step.starts;
+    step.times.registration.solve_ms += r.times.solve_ms;
+    candidates.push_back({r, reference_pose_ * r.pose});
+  }
+  // The best fit among the well-conditioned answers (along what a degenerate one cannot observe
+  // it kept its start, which is no evidence).
+  size_t best = 0;
+  for (size_t i = 1; i < candidates.size(); ++i) {
+    const AlignmentResult& r = candidates[i].r;
+    if (!r.degenerate && (candidates[best].r.degenerate || r.cost < candidates[best].r.cost)) {
+      best = i;
+    }
+  }
+  const Candidate& winner = candidates[best];
+  // Whether every start found the winner, and the cost of the best other answer (a degenerate
+  // one is not an answer, but its start not reaching the winner tells of an ambiguous scan).
+  double rival = std::numeric_limits<double>::infinity();
+  bool one_answer = candidates.size() > 1;
+  for (const Candidate& c : candidates) {
+    if (deviation(c.pose, winner.pose) <= same) continue;
+    one_answer = false;
+    if (!c.r.degenerate) rival = std::min(rival, c.r.cost);
+  }
+  const bool clearly_better = winner.r.cost < (1.0 - kClearMargin) * rival;
+  // A soft prior: the farther an answer lies from the prediction, the better it must fit the
+  // scan than the prediction itself: its cost lower by the fraction (d / D)^2, where D is
+  // kPriorScale when every start found it and a quarter of that when some did not (an
+  // ambiguous scan's best fit is weaker evidence).
+  const double prediction_cost = aligner_.cost(reference_, current_, to_reference * predicted);
+  const double d =
+      deviation(winner.pose, predicted) / (one_answer ? kPriorScale : 0.25 * kPriorScale);
+  const bool beats_prior = winner.r.cost < (1.0 - std::min(1.0, d * d)) * prediction_cost;
+  if (winner.r.degenerate || !(one_answer || clearly_better) || !beats_prior) {
+    keepPrediction(predicted, step.registration);
+    step.rejected = true;
+    return predicted;
+  }
+  step.alternative = best != 0;
+  step.registration = winner.r;
+  return winner.pose;
+}
+
+double LidarOdometry::deviation(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) const {
+  const Eigen::Isometry3d c = a.inverse() * b;
+  return std::max(c.translation().norm(), params_.registration.solver.rotation_scale *
+                                              Eigen::AngleAxisd(c.linear()).angle());
+}
+
+const std::vector<float>& LidarOdometry::sweepTimes(const PointCloud& points,
+                                                    const std::vector<float>& measured,
+                                                    OdometryStep& step) {
+  static const std::vector<float> kNoTimes;
+  const OdometryParams& o = params_.odometry;
+  if (o.deskew == 0 || points.empty()) return kNoTimes;
+  if (measured.size() == points.size()) {
+    step.point_times = PointTimeSource::kMeasured;
+    return measured;
+  }
+  if (o.estimate_times == 0) return kNoTimes;
+  SweepTimingParams timing;
+  timing.period = o.sweep_period;
+  timing.direction = o.sweep_direction;
+  timing.start_azimuth_deg = o.sweep_start_azimuth;
+  timing.stamp_phase = o.sweep_stamp;
+  const SweepTimingEstimate e = estimateSweepTimes(points, timing, estimated_times_);
+  step.point_times = e.from_order ? PointTimeSource::kFromOrder : PointTimeSource::kFromParams;
+  return estimated_times_;
+}
+
+bool LidarOdometry::disagrees(const Eigen::Isometry3d& predicted,
+                              const Eigen::Isometry3d& pose) const {
   const OdometryParams& o = params_.odometry;
   // Only against a velocity measured past the start (whose first scans, registered without a
   // velocity or against an undeskewed scan, legitimately jump by 0.3 m), and not for ever:

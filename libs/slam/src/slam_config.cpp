@@ -38,16 +38,19 @@ std::vector<ParamField<SlamParams>> fields() {
                  "tightly as the finest"),
       paramField("odometry", "max_prior_deviation", &S::odometry, &O::max_prior_deviation,
                  "metres; a registration farther than this from the constant-velocity "
-                 "prediction (rotations counted at solver.rotation_scale) is rejected, the "
-                 "prediction kept and the scan flagged; the bound grows by as much with each "
-                 "consecutive rejection (a quarter as much for rotations); 0: off"),
+                 "prediction (rotations counted at solver.rotation_scale) is checked against "
+                 "registrations from other starts (no motion, the last interval's motion) and "
+                 "the prediction itself: the best fit to the scan wins; the bound grows by as "
+                 "much with each consecutive scan where the prediction was kept (a quarter as "
+                 "much for rotations); 0: off"),
       paramField("odometry", "max_acceleration", &S::odometry, &O::max_acceleration,
                  "m/s^2; the velocity carried to the next scan changes by at most this per "
                  "second; 0: no limit"),
       paramField("odometry", "max_yaw_acceleration", &S::odometry, &O::max_yaw_acceleration,
                  "deg/s^2; likewise for the yaw rate; 0: no limit"),
       paramField("odometry", "max_rejected_scans", &S::odometry, &O::max_rejected_scans,
-                 "consecutive rejected scans after which registrations are believed again"),
+                 "consecutive scans where the prediction was kept after which registrations are "
+                 "believed again"),
       paramField("odometry", "keyframe_distance", &S::odometry, &O::keyframe_distance,
                  "metres travelled since the last keyframe that make a new one"),
       paramField("odometry", "keyframe_angle", &S::odometry, &O::keyframe_angle,
@@ -61,8 +64,24 @@ std::vector<ParamField<SlamParams>> fields() {
                  "metres; decimation of keyframe clouds kept for loop closure and the map"),
       paramField("odometry", "map_range", &S::odometry, &O::map_range,
                  "metres; keyframe points farther than this from the vehicle are not kept"),
-      paramField("odometry", "deskew", &S::odometry, &O::deskew,
-                 "1: undo motion distortion when the points carry per-point times; 0: off"),
+      paramField(
+          "odometry", "deskew", &S::odometry, &O::deskew,
+          "1: undo motion distortion (with the points' times, measured or estimated); 0: off"),
+      paramField("odometry", "estimate_times", &S::odometry, &O::estimate_times,
+                 "1: scans without per-point times (KITTI .bin, PLY, point-cloud observations) "
+                 "get them estimated from the points' azimuths and are deskewed; 0: used as "
+                 "they are"),
+      paramField("odometry", "sweep_period", &S::odometry, &O::sweep_period,
+                 "seconds per revolution of the sensor (estimated times)"),
+      paramField("odometry", "sweep_direction", &S::odometry, &O::sweep_direction,
+                 "-1: the sensor spins clockwise seen from above (Velodyne, Ouster, Hesai); 1: "
+                 "counter-clockwise; used when the point order does not reveal it"),
+      paramField("odometry", "sweep_start_azimuth", &S::odometry, &O::sweep_start_azimuth,
+                 "degrees counter-clockwise from forward where a sweep begins (KITTI: 180); "
+                 "used when the point order does not reveal it"),
+      paramField("odometry", "sweep_stamp", &S::odometry, &O::sweep_stamp,
+                 "where in its sweep a scan without per-point times is stamped: 0 first point, "
+                 "0.5 middle (KITTI), 1 last point"),
       paramField("odometry", "resident_keyframes", &S::odometry, &O::resident_keyframes,
                  "keyframe clouds kept in memory; older ones wait in a temporary file until "
                  "loop closure or export reads them (flat memory on long runs); 0: all in memory"),

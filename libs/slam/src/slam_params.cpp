@@ -48,6 +48,17 @@ std::string SlamParams::validate() const {
     return outOfRange("odometry.map_voxel", o.map_voxel, "(0, 5] metres");
   if (!(o.map_range > 1.0)) return outOfRange("odometry.map_range", o.map_range, "> 1 metre");
   if (o.deskew != 0 && o.deskew != 1) return outOfRange("odometry.deskew", o.deskew, "0 or 1");
+  if (o.estimate_times != 0 && o.estimate_times != 1)
+    return outOfRange("odometry.estimate_times", o.estimate_times, "0 or 1");
+  if (!(o.sweep_period > 0.0 && o.sweep_period <= 1.0))
+    return outOfRange("odometry.sweep_period", o.sweep_period, "(0, 1] seconds");
+  if (o.sweep_direction != -1 && o.sweep_direction != 1)
+    return outOfRange("odometry.sweep_direction", o.sweep_direction,
+                      "-1 (clockwise) or 1 (counter-clockwise)");
+  if (!(o.sweep_start_azimuth >= -360.0 && o.sweep_start_azimuth <= 360.0))
+    return outOfRange("odometry.sweep_start_azimuth", o.sweep_start_azimuth, "[-360, 360] degrees");
+  if (!(o.sweep_stamp >= 0.0 && o.sweep_stamp <= 1.0))
+    return outOfRange("odometry.sweep_stamp", o.sweep_stamp, "[0, 1] of a sweep");
   if (!(o.resident_keyframes >= 0))
     return outOfRange("odometry.resident_keyframes", o.resident_keyframes,
                       "0 (all in memory) or more keyframes");

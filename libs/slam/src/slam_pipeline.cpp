@@ -31,6 +31,22 @@ void SlamPipeline::process(double time, const PointCloud& points,
   ++counters_.frames;
   if (!step.registered && counters_.frames > 1) ++counters_.empty_frames;
   if (step.registered && step.registration.degenerate) ++counters_.degenerate_frames;
+  if (step.starts > 1) ++counters_.multi_start_frames;
+  if (step.alternative) ++counters_.alternative_frames;
+  if (step.rejected) ++counters_.prediction_kept_frames;
+  switch (step.point_times) {
+    case PointTimeSource::kMeasured:
+      ++counters_.times_measured;
+      break;
+    case PointTimeSource::kFromOrder:
+      ++counters_.times_from_order;
+      break;
+    case PointTimeSource::kFromParams:
+      ++counters_.times_from_params;
+      break;
+    case PointTimeSource::kNone:
+      break;
+  }
   travelled_ += (last_odometry_.inverse() * step.pose).translation().norm();
   last_odometry_ = step.pose;
 

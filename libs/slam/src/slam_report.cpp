@@ -129,6 +129,16 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
   }
   o << "],\n";
   o << "  \"degenerate_frames\": " << c.degenerate_frames << ",\n";
+  o << "  \"prediction_disagreements\": {\"decided_by_other_starts\": " << c.multi_start_frames
+    << ", \"other_start_won\": " << c.alternative_frames
+    << ", \"prediction_kept\": " << c.prediction_kept_frames << "},\n";
+  // How each scan was deskewed: with the input's per-point times, with times estimated from
+  // the azimuths (spin start and direction read off the point order, or from the
+  // odometry.sweep_* keys), or not at all (deskewing off).
+  o << "  \"deskew\": {\"measured_times\": " << c.times_measured
+    << ", \"estimated_times_from_point_order\": " << c.times_from_order
+    << ", \"estimated_times_from_config\": " << c.times_from_params << ", \"not_deskewed\": "
+    << c.frames - c.times_measured - c.times_from_order - c.times_from_params << "},\n";
   o << "  \"sparse_sensor\": " << (pipeline.sparseSensor() ? "true" : "false") << ",\n";
   o << "  \"empty_frames\": " << c.empty_frames << ",\n";
   // Peak of the whole run so far (processing and export); the samples show how resident memory

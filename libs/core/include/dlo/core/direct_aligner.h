@@ -50,7 +50,13 @@ struct AlignmentResult {
   int iterations = 0;             ///< Gauss-Newton iterations over all levels
   int cells = 0;                  ///< cells with a valid residual at the last iteration
   double rms_height_error = 0.0;  ///< RMS of the height error at the end, metres
-  bool converged = false;         ///< the finest level met the step criteria
+  /// Mean robust (Huber) cost per selected cell of the finest level at `pose`, a cell that
+  /// found no reference or is an outlier counted at the cost of the largest inlier: lower is a
+  /// better fit. Comparable between registrations of the same current frame against the same
+  /// reference (DirectAligner::cost() gives it for any pose), which is how results from
+  /// different starts are told apart.
+  double cost = 0.0;
+  bool converged = false;  ///< the finest level met the step criteria
   /// The Hessian of the finest level or of the next coarser one was ill-conditioned, or there
   /// were too few cells: the covariance is 1e6 along what either cannot observe, and along
   /// what the next coarser level cannot observe `pose` is the initial guess.
@@ -73,6 +79,10 @@ class DirectAligner {
   /// FrameUse::kReferenceOnly.
   AlignmentResult align(const HeightFrame& reference, const HeightFrame& current,
                         const Eigen::Isometry3d& initial_guess) const;
+
+  /// AlignmentResult::cost of `current` placed at `pose` in `reference`, without iterating.
+  double cost(const HeightFrame& reference, const HeightFrame& current,
+              const Eigen::Isometry3d& pose) const;
 
   const SolverParams& params() const { return params_; }
 

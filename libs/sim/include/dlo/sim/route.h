@@ -49,6 +49,19 @@ class Route {
                                 double transitionLength = 8.0,
                                 const SpeedLimits& limits = SpeedLimits());
 
+  /**
+   * A robot's patrol around the rectangle [lo, hi]: from the middle of the lower (south) side
+   * heading east, it drives 10 m, turns round on the spot, drives back, turns round again, and
+   * then drives round the rectangle counter-clockwise, stopping at each vertex (a crossing of
+   * the procedural town's roads) to turn 90 deg on the spot. Straights at `speed` with
+   * `accel` ramps; turns on the spot at `yawRateDeg`, the yaw rate stepping from zero to it and
+   * back, as a robot's (or a handheld rig's) does. Closed: the lap ends where it began.
+   * @throws std::invalid_argument if speed, yawRateDeg or accel is not positive and finite, or
+   * the rectangle's lower side is shorter than 20 m.
+   */
+  static Route patrol(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, double speed,
+                      double yawRateDeg, double accel = 1.0);
+
   /// State at time t >= 0 [s].
   RouteState stateAt(double t) const;
   /// Length of one lap [m].
@@ -65,6 +78,19 @@ class Route {
   };
   void geometryAt(double s, Eigen::Vector2d& position, double& heading, double& curvature) const;
   void buildSpeedProfile(const SpeedLimits& limits);
+
+  /// One piece of a patrol: a straight drive or a turn on the spot.
+  struct Piece {
+    double t0 = 0.0, duration = 0.0;  ///< [s]
+    Eigen::Vector2d start = Eigen::Vector2d::Zero();
+    double heading = 0.0;   ///< at the start [rad]
+    double distance = 0.0;  ///< along the heading [m] (0 for a turn)
+    double turn = 0.0;      ///< signed angle turned on the spot [rad] (0 for a drive)
+    double s0 = 0.0;        ///< distance travelled before the piece [m]
+  };
+  RouteState patrolStateAt(double tau) const;
+  std::vector<Piece> pieces_;  ///< non-empty for a patrol
+  double speed_ = 0.0, accel_ = 0.0, yawRate_ = 0.0;
 
   /// Geometry at s = k * step_, k = 0..n (n * step_ = length_; the last sample closes the lap).
   std::vector<Sample> table_;

@@ -24,6 +24,14 @@ struct OdometryTimes {
   double totalMs() const { return deskew_ms + registration.totalMs() + keyframe_ms + local_map_ms; }
 };
 
+/// Where a scan's per-point times came from.
+enum class PointTimeSource {
+  kNone,       ///< none: the scan was not deskewed (deskewing off, or the first scan)
+  kMeasured,   ///< the input's own per-point times
+  kFromOrder,  ///< estimated from azimuths, start and spin direction read off the point order
+  kFromParams  ///< estimated from azimuths, start and spin direction from odometry.sweep_*
+};
+
 /// The outcome of one scan.
 struct OdometryStep {
   /// Pose of the vehicle at the scan's reference time in the odometry frame (the first scan's
@@ -32,9 +40,18 @@ struct OdometryStep {
   AlignmentResult registration;  ///< against the reference (none for the first scan)
   bool registered = false;       ///< false for the first scan and for empty scans
   /// The registration moved the pose farther from the constant-velocity prediction than
-  /// odometry.max_prior_deviation (a large moving object, a wrong basin): the prediction was
-  /// kept, and `registration` describes it (degenerate, its pose, unobserved covariance).
+  /// odometry.max_prior_deviation, and the prediction itself fitted the scan better than the
+  /// registrations from every start tried: the prediction was kept, and `registration`
+  /// describes it (degenerate, its pose, unobserved covariance).
   bool rejected = false;
+  /// Registrations run for this scan: 1, or more where the first disagreed with the prediction
+  /// and other starts were tried (no motion, the last interval's motion).
+  int starts = 1;
+  /// One of the other starts fitted the scan better than the registration from the prediction
+  /// and gave the pose.
+  bool alternative = false;
+  /// Where the per-point times used for deskewing came from.
+  PointTimeSource point_times = PointTimeSource::kNone;
   bool new_keyframe = false;  ///< this scan became a keyframe
   /// The new keyframe's points (deskewed, vehicle frame, decimated to map_voxel within
   /// map_range); empty unless new_keyframe.
@@ -80,10 +97,24 @@ class LidarOdometry {
     WeightedCloud cloud;     ///< vehicle frame, keyframe_voxel
   };
 
-  /// A registered pose too far from the prediction to be believed (see OdometryStep): its
-  /// translation or its rotation (counted as its displacement at solver.rotation_scale) beyond
-  /// odometry.max_prior_deviation, bounds that widen with each consecutive rejection.
-  bool implausible(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& pose) const;
+  /// A registered pose far enough from the prediction to need other evidence (see
+  /// decideByEvidence()): its translation or its rotation (counted as its displacement at
+  /// solver.rotation_scale) beyond odometry.max_prior_deviation, bounds that widen with each
+  /// consecutive rejection.
+  bool disagrees(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& pose) const;
+  /// Registers from other starts (no motion, the last interval's motion) and returns the pose
+  /// that fits the scan best, the prediction included; fills step.registration, starts,
+  /// alternative and rejected.
+  Eigen::Isometry3d decideByEvidence(const Eigen::Isometry3d& predicted, double dt,
+                                     OdometryStep& step);
+  /// The per-point times to deskew `points` with: `measured` when it has one per point, else
+  /// (odometry.estimate_times) estimated from the azimuths into estimated_times_; empty when
+  /// deskewing is off. Sets step.point_times.
+  const std::vector<float>& sweepTimes(const PointCloud& points, const std::vector<float>& measured,
+                                       OdometryStep& step);
+  /// The larger of the translation and the rotation (as its displacement at
+  /// solver.rotation_scale) between two poses, metres.
+  double deviation(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) const;
   /// The measured velocity, its change since the last one limited to the vehicle's
   /// odometry.max_acceleration and max_yaw_acceleration over `dt`.
   Vector6d limitAcceleration(const Vector6d& measured, double dt) const;
@@ -113,10 +144,11 @@ class LidarOdometry {
 
   SlamParams params_;
   DirectAligner aligner_;
-  HeightFrame current_;    ///< reused for every scan
-  PointCloud deskewed_;    ///< reference = 3: the scan deskewed, memory reused for every scan
-  PointCloud near_;        ///< a keyframe's points within map_range, memory reused
-  HeightFrame reference_;  ///< previous scan, last keyframe or local map
+  HeightFrame current_;  ///< reused for every scan
+  PointCloud deskewed_;  ///< reference = 3: the scan deskewed, memory reused for every scan
+  PointCloud near_;      ///< a keyframe's points within map_range, memory reused
+  std::vector<float> estimated_times_;  ///< sweepTimes() of scans without times, memory reused
+  HeightFrame reference_;               ///< previous scan, last keyframe or local map
   Eigen::Isometry3d reference_pose_ = Eigen::Isometry3d::Identity();  ///< odometry frame
   std::deque<RecentKeyframe> recent_;
   std::optional<LocalHeightMap> scan_map_;  ///< reference = 3, see scanMap()

@@ -61,7 +61,21 @@ struct OdometryParams {
   double keyframe_voxel = 0.1;
   double map_voxel = 0.2;   ///< metres; decimation of keyframe clouds kept for the map
   double map_range = 40.0;  ///< metres; keyframe points farther than this are not kept
-  int deskew = 1;           ///< 1: undo motion distortion when points carry times
+  int deskew = 1;           ///< 1: undo motion distortion (measured or estimated times)
+  /// 1: a scan without per-point times (KITTI .bin, PLY, CObservationPointCloud) gets them
+  /// estimated from the points' azimuths (dlo::estimateSweepTimes) and is deskewed like the
+  /// others; 0: such scans are used as they are.
+  int estimate_times = 1;
+  double sweep_period = 0.1;  ///< seconds per revolution of the sensor (estimate_times)
+  /// Spin direction, -1 clockwise seen from above (Velodyne, Ouster, Hesai) or +1; used when
+  /// the point order does not reveal it (estimate_times).
+  int sweep_direction = -1;
+  /// Degrees counter-clockwise from forward where a sweep begins (KITTI: 180, behind); used
+  /// when the point order does not reveal it (estimate_times).
+  double sweep_start_azimuth = 180.0;
+  /// Fraction of the sweep at which a scan without per-point times is stamped: 0 its first
+  /// point, 0.5 its middle (KITTI), 1 its end (estimate_times).
+  double sweep_stamp = 0.5;
   /// Keyframe clouds kept in memory; older ones move to a temporary file and are read back
   /// when a loop closure or the export needs them, so memory stays flat on long runs. 0: all
   /// stay in memory.

@@ -28,6 +28,18 @@ struct PipelineCounters {
   size_t frames = 0;
   size_t empty_frames = 0;  ///< scans without a valid cell (pose from the motion prior)
   size_t degenerate_frames = 0;
+  /// Scans whose registration disagreed with the prediction and was decided by registering
+  /// from other starts (OdometryStep::starts > 1) ...
+  size_t multi_start_frames = 0;
+  /// ... of which another start than the prediction gave the pose ...
+  size_t alternative_frames = 0;
+  /// ... and of which the prediction fitted best and was kept (OdometryStep::rejected).
+  size_t prediction_kept_frames = 0;
+  /// Scans by where their per-point times came from (PointTimeSource): measured, estimated
+  /// from the azimuths with the start read off the point order or from the sweep_* keys.
+  size_t times_measured = 0;
+  size_t times_from_order = 0;
+  size_t times_from_params = 0;
   size_t loops_accepted = 0;
   size_t loops_rejected = 0;
   size_t optimisations = 0;
