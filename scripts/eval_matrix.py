@@ -58,6 +58,9 @@ def main():
     ap.add_argument("--frames", type=int, default=300, help="sweeps per drive (default 300)")
     ap.add_argument("--set", action="append", default=[], metavar="section.key=value",
                     help="dlo-slam override for every run (repeatable)")
+    ap.add_argument("--no-condition-settings", action="store_true",
+                    help="leave out the dlo-slam settings that describe each condition's data "
+                         "(to run a dlo-slam that does not know them)")
     ap.add_argument("--tag", default="run", help="name of this configuration's result folder")
     ap.add_argument("--fail-drift", type=float, default=2.0,
                     help="drift (%%) above which a drive counts as failed (default 2)")
@@ -89,7 +92,8 @@ def main():
                 os.makedirs(res, exist_ok=True)
                 cmd = [slam, "--input", os.path.join(data, "sequence.rawlog"), "--gt",
                        os.path.join(data, "groundtruth.tum"), "--out", res, "--quiet"]
-                for s in CONDITIONS[cond][1] + a.set:
+                described = [] if a.no_condition_settings else CONDITIONS[cond][1]
+                for s in described + a.set:
                     cmd += ["--set", s]
                 run(cmd, os.path.join(res, "slam.log"))
                 with open(os.path.join(res, "report.json")) as f:

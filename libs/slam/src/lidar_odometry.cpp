@@ -20,7 +20,19 @@ constexpr double kSameAnswer = 0.25;
 /// Where the scan's answers differ, the best is taken if its cost is this fraction below every
 /// other answer's and the prediction's.
 constexpr double kClearMargin = 0.1;
+/// Metres (rotations at solver.rotation_scale): see LidarOdometry::evidenceSupports().
 constexpr double kPriorScale = 2.0;
+/// An answer whose cost is this fraction below the prediction's is believed however far it is.
+constexpr double kConvincing = 0.5;
+/// Times a scan whose registration contradicts the prediction is deskewed again with the motion
+/// it measured and registered again.
+constexpr int kRedeskewIterations = 2;
+
+/// The planar part (x, y, yaw) of a body twist: what the velocity carries from scan to scan.
+Vector6d planar(Vector6d v) {
+  v(2) = v(3) = v(4) = 0.0;
+  return v;
+}
 /// Velocity measurements before the constant-velocity prediction is trusted to reject a scan.
 constexpr size_t kSettledVelocityUpdates = 5;
 
@@ -72,28 +84,64 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   Stopwatch deskew_watch;
   const std::vector<float>& times = sweepTimes(points, point_times, step);
   const bool deskew = !times.empty() && frames_ > 0;
-  const SweepMotion motion = deskew ? SweepMotion(times, velocity_) : SweepMotion();
   const bool copy = deskew && params_.odometry.reference == 3;
-  if (copy) dlo::deskew(points, motion, deskewed_);
-  const PointCloud& cloud = copy ? deskewed_ : points;
+  SweepMotion motion;
   const SweepMotion none;
-  const SweepMotion& pending = copy ? none : motion;  // what `cloud` still has to be moved by
-  step.times.deskew_ms = deskew_watch.elapsedMs();
-
+  const PointCloud* cloud_ptr = &points;
+  const SweepMotion* pending_ptr = &none;  // what the cloud still has to be moved by
   // Frame to frame, this scan becomes the next reference; otherwise it never is one.
   const FrameUse use =
       params_.odometry.reference == 0 ? FrameUse::kCurrentAndReference : FrameUse::kCurrentOnly;
-  current_.build(cloud, pending, reg.grid, reg.selection, reg.includeGround(), use);
+  // The current frame, deskewed with the body twist `v`; the deskewing's time (the motion
+  // table, and the copy for the scan map) is added to deskew_ms.
+  const auto build = [&](const Vector6d& v) {
+    Stopwatch w;
+    if (deskew) motion = SweepMotion(times, v);
+    if (copy) dlo::deskew(points, motion, deskewed_);
+    cloud_ptr = copy ? &deskewed_ : &points;
+    pending_ptr = copy || !deskew ? &none : &motion;
+    step.times.deskew_ms += w.elapsedMs();
+    current_.build(*cloud_ptr, *pending_ptr, reg.grid, reg.selection, reg.includeGround(), use);
+  };
+  step.times.deskew_ms = deskew_watch.elapsedMs();
+  build(velocity_);
   step.times.registration = current_.buildTimes();
+  // Frames built again (a registration that contradicts the prediction) add to these.
+  const auto rebuilt = [&step, this] { step.times.registration += current_.buildTimes(); };
 
   Eigen::Isometry3d pose = predicted;
   if (has_reference_ && !current_.empty()) {
-    step.registration = aligner_.align(reference_, current_, reference_pose_.inverse() * predicted);
+    const Eigen::Isometry3d to_reference = reference_pose_.inverse();
+    step.registration = aligner_.align(reference_, current_, to_reference * predicted);
     pose = reference_pose_ * step.registration.pose;
     step.registered = true;
     step.times.registration.solve_ms += step.registration.times.solve_ms;
     if (dt > 0.0 && dt < 1.0 && disagrees(predicted, pose)) {
-      pose = decideByEvidence(predicted, dt, step);
+      // The prediction's fit, in the frame deskewed with the predicted motion.
+      const double prediction_cost = aligner_.cost(reference_, current_, to_reference * predicted);
+      if (deskew) {
+        // The scan was deskewed with the predicted motion, which its registration contradicts:
+        // deskewed with the motion it measured, it is registered again (a robot that begins to
+        // turn on the spot at 90 deg/s turns 9 deg within the sweep, and a sweep deskewed as
+        // if it stood still registers several degrees off).
+        for (int k = 0; k < kRedeskewIterations; ++k) {
+          build(planar(logSE3(last_pose_.inverse() * pose) / dt));
+          rebuilt();
+          const AlignmentResult r = aligner_.align(reference_, current_, to_reference * pose);
+          step.times.registration.solve_ms += r.times.solve_ms;
+          const Eigen::Isometry3d moved = reference_pose_ * r.pose;
+          const bool settled =
+              deviation(moved, pose) < kSameAnswer * params_.odometry.max_prior_deviation;
+          step.registration = r;
+          pose = moved;
+          if (settled || r.degenerate) break;
+        }
+      }
+      pose = decideByEvidence(predicted, prediction_cost, dt, step);
+      if (step.rejected && deskew) {
+        build(velocity_);  // the prediction stands: so does the deskewing it implies
+        rebuilt();
+      }
     } else if (rejected_run_ >= params_.odometry.max_rejected_scans) {
       // A run of rejections ended by believing the registration again: the jump back makes
       // the next predictions wrong for a while, so the velocity must settle again before the
@@ -130,7 +178,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   Stopwatch keyframe_watch;
   const bool first = frames_ == 0;
   if (!current_.empty() && (first || (hasStructure() && needsKeyframe(pose, step.registration)))) {
-    addKeyframe(pose, cloud, pending, step);
+    addKeyframe(pose, *cloud_ptr, *pending_ptr, step);
     if (first && !times.empty()) {
       first_points_ = points;
       first_times_ = times;
@@ -148,7 +196,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   if (params_.odometry.reference == 3 && !current_.empty() &&
       (first || (step.registered && !step.rejected))) {
     Stopwatch map_watch;
-    updateScanMap(cloud, pose);
+    updateScanMap(*cloud_ptr, pose);
     step.times.local_map_ms = map_watch.elapsedMs();
   }
 
@@ -160,79 +208,89 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   return step;
 }
 
-Eigen::Isometry3d LidarOdometry::decideByEvidence(const Eigen::Isometry3d& predicted, double dt,
+Eigen::Isometry3d LidarOdometry::decideByEvidence(const Eigen::Isometry3d& predicted,
+                                                  double prediction_cost, double dt,
                                                   OdometryStep& step) {
   // The prediction is a guess from the past; the scan is the measurement. A registration far
-  // from the prediction is either right (the vehicle stopped turning, braked, started to turn
-  // on the spot) or in a wrong basin (a large moving object, a scene that constrains little).
-  // Registrations from other starts tell them apart: no motion since the last scan, and the
-  // last interval's motion repeated as measured (the prediction averages two intervals and
-  // limits the change). Where they all end in the same place, the scan has one clear answer
-  // and it is taken, however far from the prediction. Where they end in different places, the
-  // scan is ambiguous: the best fit (mean robust cost of the same cells) is taken only if it
-  // fits clearly better than the other answers and than the prediction itself; otherwise the
-  // prediction is kept.
+  // from the prediction is either right (the vehicle stopped turning, braked, began to turn on
+  // the spot) or in a wrong basin (a large moving object, a scene that constrains little). The
+  // scan is registered again from other starts: no motion since the last scan, the last
+  // interval's motion as measured (the prediction averages two intervals and limits the
+  // change), and the first answer mirrored about the prediction (which probes the basin from
+  // the other side where the others coincide with the prediction, as for a robot at rest that
+  // begins to turn on the spot). Every answer is scored by its fit: the mean robust cost of the
+  // same cells (AlignmentResult::cost). See evidenceSupports() for what is then believed.
   const OdometryParams& o = params_.odometry;
   const Eigen::Isometry3d to_reference = reference_pose_.inverse();
-  std::vector<Eigen::Isometry3d> starts = {last_pose_};
+  const Eigen::Isometry3d first = reference_pose_ * step.registration.pose;
+  std::vector<Eigen::Isometry3d> starts = {
+      last_pose_, predicted * expSE3(-logSE3(predicted.inverse() * first))};
   if (frames_ >= 2 && last_time_ - before_last_time_ > 0.0 &&
       last_time_ - before_last_time_ < 1.0) {
     const Vector6d last =
         logSE3(before_last_pose_.inverse() * last_pose_) * (dt / (last_time_ - before_last_time_));
     starts.push_back(last_pose_ * expSE3(last));
   }
-  struct Candidate {
-    AlignmentResult r;
-    Eigen::Isometry3d pose;  ///< odometry frame
-  };
-  std::vector<Candidate> candidates = {
-      {step.registration, reference_pose_ * step.registration.pose}};
-  // Starts closer than this to one already tried would end in the same place; results closer
+  std::vector<Answer> answers = {{step.registration, first}};
+  // Starts closer than this to one already tried would end in the same place; answers closer
   // than this are the same answer.
   const double same = kSameAnswer * o.max_prior_deviation;
+  std::vector<Eigen::Isometry3d> tried = {predicted};
   for (const Eigen::Isometry3d& start : starts) {
-    if (deviation(start, predicted) < same) continue;
+    if (std::any_of(tried.begin(), tried.end(),
+                    [&](const Eigen::Isometry3d& t) { return deviation(start, t) < same; })) {
+      continue;
+    }
+    tried.push_back(start);
     const AlignmentResult r = aligner_.align(reference_, current_, to_reference * start);
     ++step.starts;
     step.times.registration.solve_ms += r.times.solve_ms;
-    candidates.push_back({r, reference_pose_ * r.pose});
+    answers.push_back({r, reference_pose_ * r.pose});
   }
   // The best fit among the well-conditioned answers (along what a degenerate one cannot observe
   // it kept its start, which is no evidence).
   size_t best = 0;
-  for (size_t i = 1; i < candidates.size(); ++i) {
-    const AlignmentResult& r = candidates[i].r;
-    if (!r.degenerate && (candidates[best].r.degenerate || r.cost < candidates[best].r.cost)) {
-      best = i;
-    }
+  for (size_t i = 1; i < answers.size(); ++i) {
+    const AlignmentResult& r = answers[i].r;
+    if (!r.degenerate && (answers[best].r.degenerate || r.cost < answers[best].r.cost)) best = i;
   }
-  const Candidate& winner = candidates[best];
-  // Whether every start found the winner, and the cost of the best other answer (a degenerate
-  // one is not an answer, but its start not reaching the winner tells of an ambiguous scan).
-  double rival = std::numeric_limits<double>::infinity();
-  bool one_answer = candidates.size() > 1;
-  for (const Candidate& c : candidates) {
-    if (deviation(c.pose, winner.pose) <= same) continue;
-    one_answer = false;
-    if (!c.r.degenerate) rival = std::min(rival, c.r.cost);
-  }
-  const bool clearly_better = winner.r.cost < (1.0 - kClearMargin) * rival;
-  // A soft prior: the farther an answer lies from the prediction, the better it must fit the
-  // scan than the prediction itself: its cost lower by the fraction (d / D)^2, where D is
-  // kPriorScale when every start found it and a quarter of that when some did not (an
-  // ambiguous scan's best fit is weaker evidence).
-  const double prediction_cost = aligner_.cost(reference_, current_, to_reference * predicted);
-  const double d =
-      deviation(winner.pose, predicted) / (one_answer ? kPriorScale : 0.25 * kPriorScale);
-  const bool beats_prior = winner.r.cost < (1.0 - std::min(1.0, d * d)) * prediction_cost;
-  if (winner.r.degenerate || !(one_answer || clearly_better) || !beats_prior) {
+  if (!evidenceSupports(answers, best, predicted, prediction_cost)) {
     keepPrediction(predicted, step.registration);
     step.rejected = true;
     return predicted;
   }
   step.alternative = best != 0;
-  step.registration = winner.r;
-  return winner.pose;
+  step.registration = answers[best].r;
+  return answers[best].pose;
+}
+
+bool LidarOdometry::evidenceSupports(const std::vector<Answer>& answers, size_t best,
+                                     const Eigen::Isometry3d& predicted,
+                                     double prediction_cost) const {
+  const Answer& winner = answers[best];
+  if (winner.r.degenerate) return false;
+  const double same = kSameAnswer * params_.odometry.max_prior_deviation;
+  // A scan that some start registered as degenerate constrains little: its best fit is weak
+  // evidence, and the prior is held to more firmly (a street ending in an open field pulled
+  // the heading by 2 deg otherwise).
+  bool weak = false;
+  for (const Answer& a : answers) {
+    if (deviation(a.pose, winner.pose) <= same) continue;
+    if (a.r.degenerate) {
+      weak = true;
+    } else if (!(winner.r.cost < (1.0 - kClearMargin) * a.r.cost)) {
+      return false;  // another answer fits nearly as well: the scan cannot tell
+    }
+  }
+  // A soft prior: an answer d from the prediction must fit the scan better than the prediction
+  // itself, its cost lower by the fraction (d / D)^2 (D = kPriorScale, a quarter of it for a
+  // weak scan), and never by more than half: an answer that halves the prediction's cost is
+  // believed however far it lies (a robot that turns on the spot at 90 deg/s from rest is 9 deg
+  // from its prediction; a truck overtaking close by pulled registrations 1.7 m away while
+  // lowering the cost by at most a quarter).
+  const double d = deviation(winner.pose, predicted) / (weak ? 0.25 * kPriorScale : kPriorScale);
+  const double demanded = weak ? std::min(1.0, d * d) : std::min(kConvincing, d * d);
+  return winner.r.cost < (1.0 - demanded) * prediction_cost;
 }
 
 double LidarOdometry::deviation(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) const {

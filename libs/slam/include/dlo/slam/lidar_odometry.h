@@ -105,13 +105,24 @@ class LidarOdometry {
   /// Registers from other starts (no motion, the last interval's motion) and returns the pose
   /// that fits the scan best, the prediction included; fills step.registration, starts,
   /// alternative and rejected.
-  Eigen::Isometry3d decideByEvidence(const Eigen::Isometry3d& predicted, double dt,
-                                     OdometryStep& step);
+  /// `prediction_cost`: the prediction's cost in the frame deskewed with the predicted motion.
+  Eigen::Isometry3d decideByEvidence(const Eigen::Isometry3d& predicted, double prediction_cost,
+                                     double dt, OdometryStep& step);
   /// The per-point times to deskew `points` with: `measured` when it has one per point, else
   /// (odometry.estimate_times) estimated from the azimuths into estimated_times_; empty when
   /// deskewing is off. Sets step.point_times.
   const std::vector<float>& sweepTimes(const PointCloud& points, const std::vector<float>& measured,
                                        OdometryStep& step);
+  /// One registration of a scan whose first registration disagreed with the prediction.
+  struct Answer {
+    AlignmentResult r;
+    Eigen::Isometry3d pose;  ///< odometry frame
+  };
+  /// Whether answers[best] is to be believed over the prediction: it is well conditioned, fits
+  /// clearly better (10 %) than every other well-conditioned answer, and better than the
+  /// prediction by a margin that grows with its distance from it (a soft prior).
+  bool evidenceSupports(const std::vector<Answer>& answers, size_t best,
+                        const Eigen::Isometry3d& predicted, double prediction_cost) const;
   /// The larger of the translation and the rotation (as its displacement at
   /// solver.rotation_scale) between two poses, metres.
   double deviation(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) const;
