@@ -119,23 +119,34 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     if (dt > 0.0 && dt < 1.0 && disagrees(predicted, pose)) {
       // The prediction's fit, in the frame deskewed with the predicted motion.
       const double prediction_cost = aligner_.cost(reference_, current_, to_reference * predicted);
-      if (deskew) {
+      if (deskew && !step.registration.degenerate) {
         // The scan was deskewed with the predicted motion, which its registration contradicts:
         // deskewed with the motion it measured, it is registered again (a robot that begins to
         // turn on the spot at 90 deg/s turns 9 deg within the sweep, and a sweep deskewed as
-        // if it stood still registers several degrees off).
+        // if it stood still registers several degrees off). A motion that is right makes the
+        // scan fit better once deskewed with it; one that does not is no answer (a wrong basin
+        // deskewed with its own motion can drift further), and the first stands.
+        const AlignmentResult first = step.registration;
+        const Eigen::Isometry3d first_pose = pose;
+        AlignmentResult r = first;
         for (int k = 0; k < kRedeskewIterations; ++k) {
           build(planar(logSE3(last_pose_.inverse() * pose) / dt));
           rebuilt();
-          const AlignmentResult r = aligner_.align(reference_, current_, to_reference * pose);
+          r = aligner_.align(reference_, current_, to_reference * pose);
           step.times.registration.solve_ms += r.times.solve_ms;
           const Eigen::Isometry3d moved = reference_pose_ * r.pose;
           const bool settled =
               deviation(moved, pose) < kSameAnswer * params_.odometry.max_prior_deviation;
-          step.registration = r;
           pose = moved;
           if (settled || r.degenerate) break;
         }
+        if (r.degenerate || !(r.cost < first.cost)) {
+          build(velocity_);
+          rebuilt();
+          r = first;
+          pose = first_pose;
+        }
+        step.registration = r;
       }
       pose = decideByEvidence(predicted, prediction_cost, dt, step);
       if (step.rejected && deskew) {
@@ -284,11 +295,15 @@ bool LidarOdometry::evidenceSupports(const std::vector<Answer>& answers, size_t 
   }
   // A soft prior: an answer d from the prediction must fit the scan better than the prediction
   // itself, its cost lower by the fraction (d / D)^2 (D = kPriorScale, a quarter of it for a
-  // weak scan), and never by more than half: an answer that halves the prediction's cost is
+  // weak scan, times one more for each scan in a row that kept the prediction), and never by
+  // more than half: an answer that halves the prediction's cost is
   // believed however far it lies (a robot that turns on the spot at 90 deg/s from rest is 9 deg
   // from its prediction; a truck overtaking close by pulled registrations 1.7 m away while
   // lowering the cost by at most a quarter).
-  const double d = deviation(winner.pose, predicted) / (weak ? 0.25 * kPriorScale : kPriorScale);
+  // Each scan that kept the prediction makes it older and less certain: the prior widens with
+  // the run, as the disagreement bound does.
+  const double scale = (weak ? 0.25 * kPriorScale : kPriorScale) * (1.0 + rejected_run_);
+  const double d = deviation(winner.pose, predicted) / scale;
   const double demanded = weak ? std::min(1.0, d * d) : std::min(kConvincing, d * d);
   return winner.r.cost < (1.0 - demanded) * prediction_cost;
 }
