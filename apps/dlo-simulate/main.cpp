@@ -82,26 +82,30 @@ struct Arguments {
   bool help = false;
 };
 
-long parseInteger(const std::string& name, const std::string& text, long lo, long hi,
-                  const std::string& expected) {
+/// `text` read whole by `read` (std::stol or std::stod) and within [lo, hi], or a UserError
+/// naming the option and what it expects.
+template <typename T, typename Read>
+T parseValue(const std::string& name, const std::string& text, T lo, T hi,
+             const std::string& expected, Read read) {
   try {
     size_t used = 0;
-    const long v = std::stol(text, &used);
+    const T v = read(text, &used);
     if (used == text.size() && v >= lo && v <= hi) return v;
   } catch (const std::exception&) {
   }
   throw UserError{name + " must be " + expected + ", got '" + text + "'."};
 }
 
+long parseInteger(const std::string& name, const std::string& text, long lo, long hi,
+                  const std::string& expected) {
+  return parseValue<long>(name, text, lo, hi, expected,
+                          [](const std::string& s, size_t* used) { return std::stol(s, used); });
+}
+
 double parseNumber(const std::string& name, const std::string& text, double lo, double hi,
                    const std::string& expected) {
-  try {
-    size_t used = 0;
-    const double v = std::stod(text, &used);
-    if (used == text.size() && v >= lo && v <= hi) return v;
-  } catch (const std::exception&) {
-  }
-  throw UserError{name + " must be " + expected + ", got '" + text + "'."};
+  return parseValue<double>(name, text, lo, hi, expected,
+                            [](const std::string& s, size_t* used) { return std::stod(s, used); });
 }
 
 Arguments parseArguments(int argc, char** argv) {

@@ -233,3 +233,33 @@ TEST(Route, TransitionLengthIsClampedAndZeroGivesCircularCorners) {
   EXPECT_THROW(Route::roundedRectangle({0, 0}, {60, 25}, R, 8.0), std::invalid_argument);
   EXPECT_NO_THROW(Route::roundedRectangle({0, 0}, {60, 29}, R, 8.0));
 }
+
+TEST(Route, APatrolTurnsOnTheSpotAndClosesItsLap) {
+  const Route patrol = Route::patrol({0, 0}, {60, 40}, 1.5, 90.0);
+  // Two turns round (180 deg each) over 10 m and back, then the rectangle's 200 m.
+  EXPECT_NEAR(patrol.lapLength(), 220.0, 1e-9);
+  const RouteState start = patrol.stateAt(0.0);
+  const RouteState lap = patrol.stateAt(patrol.lapDuration() - 1e-9);
+  EXPECT_LT((lap.position - start.position).norm(), 1e-6);
+  EXPECT_NEAR(std::remainder(lap.heading - start.heading, 2 * M_PI), 0.0, 1e-6);
+  const double dt = 0.01;
+  double maxSpeed = 0, maxYawRate = 0, maxSpeedJump = 0, turningSpeed = 0;
+  RouteState prev = start;
+  for (double t = dt; t < patrol.lapDuration(); t += dt) {
+    const RouteState cur = patrol.stateAt(t);
+    maxSpeed = std::max(maxSpeed, cur.speed);
+    maxYawRate = std::max(maxYawRate, std::abs(cur.yawRate));
+    maxSpeedJump = std::max(maxSpeedJump, std::abs(cur.speed - prev.speed));
+    if (cur.yawRate != 0.0) {
+      // On the spot: no speed, no displacement while turning.
+      turningSpeed = std::max(turningSpeed, cur.speed + (cur.position - prev.position).norm());
+    }
+    prev = cur;
+  }
+  EXPECT_NEAR(maxSpeed, 1.5, 1e-6);
+  EXPECT_NEAR(maxYawRate * 180 / M_PI, 90.0, 1e-6);  // the yaw rate steps to the turn rate
+  EXPECT_LT(maxSpeedJump, 1.0 * dt + 1e-9);          // 1 m/s^2 ramps
+  EXPECT_LT(turningSpeed, 0.02);
+  EXPECT_THROW(Route::patrol({0, 0}, {60, 40}, 0.0, 90.0), std::invalid_argument);
+  EXPECT_THROW(Route::patrol({0, 0}, {10, 40}, 1.5, 90.0), std::invalid_argument);
+}

@@ -325,9 +325,16 @@ TEST_F(SimulatedLoop, LocalMapModeRunsFromTheCommandLineWithEveryReportField) {
   ASSERT_EQ(runDloSlam(*dir_, out, "--max-frames 60", report), 0);
   for (const char* key :
        {"\"frames\": 60", "\"keyframes\": ", "\"stages_ms\": ", "\"loop_closures\": ",
-        "\"degenerate_frames\": ", "\"accuracy\": ", "\"drift_percent\": "}) {
+        "\"degenerate_frames\": ", "\"accuracy\": ", "\"drift_percent\": ",
+        "\"prediction_disagreements\": {\"decided_by_other_starts\": "}) {
     EXPECT_NE(report.find(key), std::string::npos) << key;
   }
+  // The simulated sweeps carry per-point times: every scan is deskewed with them.
+  EXPECT_NE(report.find("\"deskew\": {\"measured_times\": 60, "
+                        "\"estimated_times_from_point_order\": 0, "
+                        "\"estimated_times_from_config\": 0, \"not_deskewed\": 0}"),
+            std::string::npos)
+      << report;
 }
 
 TEST_F(SimulatedLoop, AnInterruptedRunWritesLoadableOutputsAndExitsNonZero) {

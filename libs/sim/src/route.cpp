@@ -211,34 +211,29 @@ Route Route::patrol(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, double
   r.yawRate_ = yawRateDeg * M_PI / 180.0;
   Eigen::Vector2d at(0.5 * (lo.x() + hi.x()), lo.y());
   double heading = 0.0, t = 0.0, s = 0.0;
-  const auto drive = [&](double distance) {
+  // One piece from where the last one ended: a drive of `distance` or a turn of `angle`.
+  const auto add = [&](double distance, double angle, double duration) {
     Piece p;
     p.t0 = t;
     p.start = at;
     p.heading = heading;
     p.distance = distance;
-    p.s0 = s;
-    // Trapezoidal speed profile, or triangular when the drive is too short to reach the speed.
-    const double ramp = speed * speed / accel;  // both ramps' distance
-    p.duration =
-        distance >= ramp ? distance / speed + speed / accel : 2.0 * std::sqrt(distance / accel);
-    r.pieces_.push_back(p);
-    at += distance * Eigen::Vector2d(std::cos(heading), std::sin(heading));
-    t += p.duration;
-    s += distance;
-  };
-  const auto turn = [&](double angle) {
-    Piece p;
-    p.t0 = t;
-    p.start = at;
-    p.heading = heading;
     p.turn = angle;
     p.s0 = s;
-    p.duration = std::fabs(angle) / r.yawRate_;
+    p.duration = duration;
     r.pieces_.push_back(p);
+    at += distance * Eigen::Vector2d(std::cos(heading), std::sin(heading));
     heading += angle;
-    t += p.duration;
+    t += duration;
+    s += distance;
   };
+  const auto drive = [&](double distance) {
+    // Trapezoidal speed profile, or triangular when the drive is too short to reach the speed.
+    const double ramp = speed * speed / accel;  // both ramps' distance
+    add(distance, 0.0,
+        distance >= ramp ? distance / speed + speed / accel : 2.0 * std::sqrt(distance / accel));
+  };
+  const auto turn = [&](double angle) { add(0.0, angle, std::fabs(angle) / r.yawRate_); };
   const double halfW = 0.5 * (hi.x() - lo.x()), height = hi.y() - lo.y();
   drive(10.0);
   turn(M_PI);
