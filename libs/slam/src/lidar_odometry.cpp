@@ -176,11 +176,11 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     // grew without bound in simulated turns. Over two intervals the loop gain drops below one.
     const bool two = frames_ >= 2 && time - before_last_time_ < 1.0;
     const Eigen::Isometry3d& from = two ? before_last_pose_ : last_pose_;
-    Vector6d v = logSE3(from.inverse() * pose) / (two ? time - before_last_time_ : dt);
     // Only the planar motion (x, y, yaw) is carried from one scan to the next: a vehicle's
     // vertical, roll and pitch rates are small and their per-scan estimates noisy; z, roll and
     // pitch are observed afresh from the ground.
-    v(2) = v(3) = v(4) = 0.0;
+    const Vector6d v =
+        planar(logSE3(from.inverse() * pose) / (two ? time - before_last_time_ : dt));
     velocity_ = velocity_updates_ >= kSettledVelocityUpdates ? limitAcceleration(v, dt) : v;
     ++velocity_updates_;
   }
