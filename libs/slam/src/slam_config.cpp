@@ -38,11 +38,11 @@ std::vector<ParamField<SlamParams>> fields() {
                  "tightly as the finest"),
       paramField("odometry", "max_prior_deviation", &S::odometry, &O::max_prior_deviation,
                  "metres; a registration farther than this from the constant-velocity "
-                 "prediction (rotations counted at solver.rotation_scale) is checked against "
-                 "registrations from other starts (no motion, the last interval's motion) and "
-                 "the prediction itself: the best fit to the scan wins; the bound grows by as "
-                 "much with each consecutive scan where the prediction was kept (a quarter as "
-                 "much for rotations); 0: off"),
+                 "prediction (rotations counted at solver.rotation_scale) is decided by the "
+                 "scan: deskewed with the motion it measured and registered from other starts, "
+                 "the best fit wins if it beats the prediction's by a margin growing with its "
+                 "distance from it (README); the bound grows by as much with each consecutive "
+                 "scan where the prediction was kept (a quarter as much for rotations); 0: off"),
       paramField("odometry", "max_acceleration", &S::odometry, &O::max_acceleration,
                  "m/s^2; the velocity carried to the next scan changes by at most this per "
                  "second; 0: no limit"),
