@@ -1,6 +1,6 @@
 // Sparse sensors with the default configuration: a simulated VLP-16 and HDL-32 drive are
 // recognised as sparse, gridded at 0.2 m and registered against the scan map, within 0.6 m ATE
-// over 120 sweeps; the HDL-64's grid (0.1 m) with the keyframe map drifts over twice as far.
+// over 120 sweeps; the HDL-64's grid (0.1 m) with the keyframe map drifts over 1.5 times as far.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -81,14 +81,16 @@ void checkSparseDrive(const std::string& sensor, int seed) {
   EXPECT_LT(ate, 0.6);
 
   // The dense sensor's grid and the keyframe map as the reference, the defaults before the
-  // sparse grid and the scan map: 0.82 m against 0.25 m on the VLP-16 drive.
+  // sparse grid and the scan map: 0.41 m against 0.24 m on the VLP-16 drive (0.82 m against
+  // 0.25 m before registrations far from the prediction were decided by the scan instead of
+  // rejected, which helped the dense grid most).
   SlamParams dense;
   dense.odometry.sparse_scan_points = 0;
   dense.odometry.reference = 2;
   const double dense_ate = odometryAte(d, dense, sparse, used);
   EXPECT_FALSE(sparse);
   EXPECT_EQ(used.solver.coarse_step, dense.registration.solver.coarse_step);
-  EXPECT_GT(dense_ate, 2.0 * ate);
+  EXPECT_GT(dense_ate, 1.5 * ate);
   std::printf("%s seed %d: ATE %.3f m (sparse defaults), %.3f m (dense grid, keyframe map)\n",
               sensor.c_str(), seed, ate, dense_ate);
   if (!std::getenv("DLO_KEEP_TEST_OUTPUT")) fs::remove_all(d.dir);
