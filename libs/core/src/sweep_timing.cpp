@@ -55,11 +55,9 @@ inline __m128 fastAtan2(__m128 y, __m128 x) {
 }
 #endif
 
-/// Angle in (-pi, pi].
+/// Angle in [-pi, pi].
 double wrapPi(double a) {
-  a = std::fmod(a + kPi, 2.0 * kPi);
-  if (a < 0.0) a += 2.0 * kPi;
-  return a - kPi;
+  return std::remainder(a, 2.0 * kPi);
 }
 
 /// Points whose azimuth means something: finite and not on the spin axis.

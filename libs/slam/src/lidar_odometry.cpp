@@ -117,6 +117,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     step.registered = true;
     step.times.registration.solve_ms += step.registration.times.solve_ms;
     if (dt > 0.0 && dt < 1.0 && disagrees(predicted, pose)) {
+      bool as_predicted = true;  // the current frame is deskewed with the predicted motion
       // The prediction's fit, in the frame deskewed with the predicted motion.
       const double prediction_cost = aligner_.cost(reference_, current_, to_reference * predicted);
       if (deskew && !step.registration.degenerate) {
@@ -126,6 +127,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
         // if it stood still registers several degrees off). A motion that is right makes the
         // scan fit better once deskewed with it; one that does not is no answer (a wrong basin
         // deskewed with its own motion can drift further), and the first stands.
+        as_predicted = false;
         const AlignmentResult first = step.registration;
         const Eigen::Isometry3d first_pose = pose;
         AlignmentResult r = first;
@@ -143,13 +145,14 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
         if (r.degenerate || !(r.cost < first.cost)) {
           build(velocity_);
           rebuilt();
+          as_predicted = true;
           r = first;
           pose = first_pose;
         }
         step.registration = r;
       }
       pose = decideByEvidence(predicted, prediction_cost, dt, step);
-      if (step.rejected && deskew) {
+      if (step.rejected && !as_predicted) {
         build(velocity_);  // the prediction stands: so does the deskewing it implies
         rebuilt();
       }
