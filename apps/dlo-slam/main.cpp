@@ -20,6 +20,7 @@
 #include "dlo/mrpt/progress_bar.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 #include "dlo/mrpt/velodyne_pcap_reader.h"
+#include "dlo/slam/sensor_profile.h"
 #include "dlo/slam/slam_config.h"
 #include "dlo/slam/slam_pipeline.h"
 #include "dlo/slam/slam_report.h"
@@ -28,7 +29,8 @@ namespace {
 
 constexpr const char* kUsage =
     R"(Usage: dlo-slam --input IN --out DIR [--config FILE] [--gt GT.tum] [--set section.key=value]...
-                [--model VLP16|HDL32|HDL64] [--sensor-label L] [--min-range M] [--max-range M]
+                [--sensor-profile auto|dense|sparse|FILE] [--model VLP16|HDL32|HDL64]
+                [--sensor-label L] [--min-range M] [--max-range M]
                 [--max-frames N] [--quiet] [--dump-config] [--help]
 
 Runs DLO odometry with a keyframe pose graph and loop closure over the LiDAR scans of IN and
@@ -57,13 +59,19 @@ Options:
                        config/dlo-slam.ini (every key commented) or --dump-config.
   --set section.key=value
                        overrides one parameter after --config; may be repeated.
+  --sensor-profile P   the settings for the kind of sensor, applied before --config and --set:
+                       dense (48 rings or more), sparse (fewer), or a profile file; auto
+                       (default) picks dense or sparse from the input's sensor model, else from
+                       the rings of its first scan, else from its point count (report.json
+                       says which and why). The profiles: config/sensors/*.ini.
   --gt FILE            ground truth (TUM or KITTI poses) for report.json's accuracy.
   --sensor-label L     only observations with this sensor label.
   --min-range M        drop points closer than M metres to the sensor (default 2.0: the vehicle).
   --max-range M        drop points farther than M metres (default 120).
   --max-frames N       stop after N scans.
   --quiet              no progress bar.
-  --dump-config        print the effective configuration as INI and exit.
+  --dump-config        print the effective configuration as INI and exit (with auto, the dense
+                       profile's).
   --help               print this text.
 
 SIGINT or SIGTERM stops the run after the current scan; the outputs for what was processed are
@@ -80,7 +88,7 @@ void onSignal(int) {
 using dlo::UsageError;
 
 struct Arguments {
-  std::string input, out, config, gt, model, sensor_label;
+  std::string input, out, config, gt, model, sensor_label, sensor_profile = "auto";
   std::vector<std::string> sets;
   double min_range = 2.0;
   double max_range = 120.0;
@@ -89,10 +97,11 @@ struct Arguments {
 };
 
 Arguments parseArguments(int argc, char** argv) {
-  const dlo::CommandLine cl(argc, argv,
-                            {"--input", "--out", "--config", "--gt", "--set", "--model",
-                             "--sensor-label", "--min-range", "--max-range", "--max-frames"},
-                            {"--quiet", "--dump-config"});
+  const dlo::CommandLine cl(
+      argc, argv,
+      {"--input", "--out", "--config", "--gt", "--set", "--model", "--sensor-label", "--min-range",
+       "--max-range", "--max-frames", "--sensor-profile"},
+      {"--quiet", "--dump-config"});
   Arguments a;
   a.help = cl.help();
   if (a.help) return a;
@@ -104,6 +113,7 @@ Arguments parseArguments(int argc, char** argv) {
   a.sets = cl.values("--set");
   a.model = cl.text("--model");
   a.sensor_label = cl.text("--sensor-label");
+  a.sensor_profile = cl.value("--sensor-profile").value_or(a.sensor_profile);
   a.min_range = cl.number("--min-range", a.min_range);
   a.max_range = cl.number("--max-range", a.max_range);
   a.max_frames = cl.integer("--max-frames", a.max_frames);
@@ -136,9 +146,11 @@ std::unique_ptr<dlo::ScanSource> openSource(const Arguments& a) {
 }
 
 int run(const Arguments& args) {
-  dlo::SlamParams params;
-  if (!args.config.empty()) params = dlo::loadSlamParamsFile(args.config);
-  dlo::applySlamParamOverrides(params, args.sets);
+  const dlo::SlamConfigLayers layers{args.config, args.sets};
+  const bool auto_profile = args.sensor_profile == "auto";
+  // Every layer is checked before the input is read (with auto, on the dense profile's keys).
+  dlo::SlamParams params =
+      dlo::resolveSlamParams(auto_profile ? "dense" : args.sensor_profile, layers);
   if (args.dump_config) {
     std::cout << dlo::slamParamsToIni(params);
     return 0;
@@ -175,15 +187,42 @@ int run(const Arguments& args) {
 
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
+  // The scans up to the first with points, which shows the sensor (empty ones before it are
+  // processed too, for their poses).
+  std::vector<dlo::TimedScan> first;
+  bool ended = false;
+  while (first.empty() || first.back().points.empty()) {
+    dlo::TimedScan s;
+    if (!source->next(s)) {
+      ended = true;
+      break;
+    }
+    first.push_back(std::move(s));
+  }
+  dlo::SensorProfileChoice profile{args.sensor_profile, "--sensor-profile"};
+  if (auto_profile && !first.empty()) {
+    const dlo::TimedScan& s = first.back();
+    profile = dlo::chooseSensorProfile(dlo::sensorEvidence(s.points, 0, s.sensor_pose));
+    params = dlo::resolveSlamParams(profile.name, layers);
+    if (!args.quiet) {
+      std::cerr << "dlo-slam: sensor profile " << profile.name << " (" << profile.reason << ").\n";
+    }
+  }
   dlo::SlamPipeline slam(params);
   dlo::ProgressBar bar(0, "scans", !args.quiet);
-  dlo::TimedScan scan;
   size_t frames = 0;
-  while (!g_stop && (args.max_frames < 0 || static_cast<long>(frames) < args.max_frames) &&
-         source->next(scan)) {
-    slam.process(scan.timestampSeconds(), scan.points, scan.point_times);
+  const auto more = [&] {
+    return !g_stop && (args.max_frames < 0 || static_cast<long>(frames) < args.max_frames);
+  };
+  const auto process = [&](const dlo::TimedScan& s) {
+    slam.process(s.timestampSeconds(), s.points, s.point_times);
     bar.update(++frames);
+  };
+  for (const dlo::TimedScan& s : first) {
+    if (more()) process(s);
   }
+  dlo::TimedScan scan;
+  while (!ended && more() && source->next(scan)) process(scan);
   bar.finish(frames);
   slam.sampleMemory();
   const bool interrupted = g_stop;
@@ -207,8 +246,9 @@ int run(const Arguments& args) {
   export_options.map_voxel = params.odometry.map_voxel;
   const dlo::ExportReport exported = dlo::exportAll(slam.map(), args.out, export_options);
   for (const std::string& w : exported.warnings) std::cerr << "dlo-slam: warning: " << w << "\n";
-  const std::string report = dlo::slamReportJson(
-      slam, args.input, dlo::slamParamsToIni(slam.params()), accuracy, interrupted, input_error);
+  const std::string report =
+      dlo::slamReportJson(slam, args.input, profile, dlo::slamParamsToIni(slam.params()), accuracy,
+                          interrupted, input_error);
   const std::string report_path = (std::filesystem::path(args.out) / "report.json").string();
   dlo::writeBytesAtomically(report_path, std::vector<unsigned char>(report.begin(), report.end()));
 
@@ -218,11 +258,9 @@ int run(const Arguments& args) {
             << " keyframes, " << slam.counters().loops_accepted << " loops closed ("
             << slam.counters().loops_rejected << " rejected), " << slam.counters().degenerate_frames
             << " degenerate; " << ms[ms.size() / 2] << " ms/scan median";
-  if (slam.sparseSensor()) {
-    const dlo::HeightGridParams& g = slam.params().registration.grid;
-    std::cout << "; sparse sensor: " << g.cols << " x " << g.rows << " cells of " << g.resolution
-              << " m";
-  }
+  const dlo::HeightGridParams& g = slam.params().registration.grid;
+  std::cout << "; sensor profile " << profile.name << ": " << g.cols << " x " << g.rows
+            << " cells of " << g.resolution << " m";
   if (accuracy) {
     std::cout << "; ATE " << accuracy->ate_rmse_before << " m before, " << accuracy->ate_rmse_after
               << " m after loop closure";

@@ -10,6 +10,7 @@
 
 #include "dlo/metrics/trajectory_io.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
+#include "dlo/slam/sensor_profile.h"
 #include "dlo/slam/slam_config.h"
 #include "dlo/slam/slam_pipeline.h"
 #include "dlo/slam/slam_report.h"
@@ -52,67 +53,82 @@ void expectKeyframesByMotion(const SlamMap& map, const OdometryParams& o) {
   EXPECT_LT(map.keyframes.size(), map.frames.size() / 2);
 }
 
-/// Odometry ATE (before loop closure) of the pipeline over the drive.
-/// `used` receives the registration parameters the odometry ended with.
-double odometryAte(const Drive& d, const SlamParams& params, bool& sparse, DloParams& used) {
-  SlamPipeline slam(params);
+/// A run of the pipeline over a drive with a sensor profile.
+struct ProfileRun {
+  double ate = 0.0;             ///< odometry ATE (before loop closure)
+  SensorProfileChoice profile;  ///< the profile used, and why
+  DloParams used;               ///< the registration parameters it gave
+};
+
+/// The pipeline over the drive with `profile` ("auto": chosen from the first scan, as dlo-slam
+/// does).
+ProfileRun runWithProfile(const Drive& d, const std::string& profile) {
   RawlogScanSource source((d.dir / "sequence.rawlog").string());
   TimedScan scan;
-  while (source.next(scan)) slam.process(scan.timestampSeconds(), scan.points, scan.point_times);
+  ProfileRun run;
+  if (!source.next(scan)) {
+    ADD_FAILURE() << "no scan in " << d.dir;
+    return run;
+  }
+  run.profile = profile == "auto"
+                    ? chooseSensorProfile(sensorEvidence(scan.points, 0, scan.sensor_pose))
+                    : SensorProfileChoice{profile, "the test"};
+  SlamPipeline slam(resolveSlamParams(run.profile.name, {}));
+  do {
+    slam.process(scan.timestampSeconds(), scan.points, scan.point_times);
+  } while (source.next(scan));
   EXPECT_TRUE(source.stats().error.empty()) << source.stats().error;
-  sparse = slam.sparseSensor();
-  used = slam.params().registration;
-  if (sparse) expectKeyframesByMotion(slam.map(), slam.params().odometry);
+  run.used = slam.params().registration;
+  if (slam.params().odometry.reference == 3) {
+    expectKeyframesByMotion(slam.map(), slam.params().odometry);
+  }
   const SlamAccuracy a = evaluateAgainst(slam.map(), d.truth);
   EXPECT_EQ(a.matched, 120u);
-  return a.ate_rmse_before;
+  run.ate = a.ate_rmse_before;
+  return run;
 }
 
 void checkSparseDrive(const std::string& sensor, int seed) {
   const Drive d = simulate(sensor, seed);
-  bool sparse = false;
-  DloParams used;
-  const double ate = odometryAte(d, SlamParams(), sparse, used);
-  EXPECT_TRUE(sparse);
-  EXPECT_DOUBLE_EQ(used.grid.resolution, SlamParams().odometry.sparse_resolution);
+  const ProfileRun chosen = runWithProfile(d, "auto");
+  // Picked from the rings the first scan shows (the rawlog's Velodyne scans name no model).
+  EXPECT_EQ(chosen.profile.name, "sparse");
+  EXPECT_NE(chosen.profile.reason.find("rings"), std::string::npos) << chosen.profile.reason;
+  const SlamParams sparse = resolveSlamParams("sparse", {});
+  EXPECT_DOUBLE_EQ(chosen.used.grid.resolution, sparse.registration.grid.resolution);
+  EXPECT_NE(SlamParams().registration.grid.resolution, sparse.registration.grid.resolution);
   // Sparse scans keep their coarse levels converging as tightly as the finest.
   EXPECT_NE(SlamParams().registration.solver.coarse_step, 0.0);
-  EXPECT_EQ(used.solver.coarse_step, SlamParams().odometry.sparse_coarse_step);
-  EXPECT_LT(ate, 0.6);
+  EXPECT_EQ(chosen.used.solver.coarse_step, 0.0);
+  EXPECT_LT(chosen.ate, 0.6);
 
-  // The dense sensor's grid and the keyframe map as the reference, the defaults before the
-  // sparse grid and the scan map: 0.41 m against 0.24 m on the VLP-16 drive (0.82 m against
-  // 0.25 m before registrations far from the prediction were decided by the scan instead of
-  // rejected, which helped the dense grid most).
-  SlamParams dense;
-  dense.odometry.sparse_scan_points = 0;
-  dense.odometry.reference = 2;
-  const double dense_ate = odometryAte(d, dense, sparse, used);
-  EXPECT_FALSE(sparse);
-  EXPECT_EQ(used.solver.coarse_step, dense.registration.solver.coarse_step);
-  EXPECT_GT(dense_ate, 1.5 * ate);
-  std::printf("%s seed %d: ATE %.3f m (sparse defaults), %.3f m (dense grid, keyframe map)\n",
-              sensor.c_str(), seed, ate, dense_ate);
+  // The dense profile (0.1 m cells and the keyframe map) on the same drive: 0.41 m against
+  // 0.24 m on the VLP-16 drive (0.82 m against 0.25 m before registrations far from the
+  // prediction were decided by the scan instead of rejected, which helped the dense grid most).
+  const ProfileRun dense = runWithProfile(d, "dense");
+  EXPECT_EQ(dense.used.solver.coarse_step, SlamParams().registration.solver.coarse_step);
+  EXPECT_GT(dense.ate, 1.5 * chosen.ate);
+  std::printf("%s seed %d: ATE %.3f m (sparse profile), %.3f m (dense profile)\n", sensor.c_str(),
+              seed, chosen.ate, dense.ate);
   if (!std::getenv("DLO_KEEP_TEST_OUTPUT")) fs::remove_all(d.dir);
 }
 
-TEST(SparseSensors, AVlp16DriveIsRegisteredWithTheDefaults) {
+TEST(SparseSensors, AVlp16DriveIsRegisteredWithTheSparseProfile) {
   checkSparseDrive("VLP16", 3);
 }
 
-TEST(SparseSensors, AnHdl32DriveIsRegisteredWithTheDefaults) {
+TEST(SparseSensors, AnHdl32DriveIsRegisteredWithTheSparseProfile) {
   checkSparseDrive("HDL32", 1);
 }
 
-TEST(SparseSensors, AnHdl64DriveKeepsTheGridOfTheConfiguration) {
+TEST(SparseSensors, AnHdl64DriveGetsTheDenseProfile) {
   const Drive d = simulate("HDL64", 2);
-  bool sparse = true;
-  DloParams used;
-  const double ate = odometryAte(d, SlamParams(), sparse, used);
-  EXPECT_FALSE(sparse);
-  EXPECT_DOUBLE_EQ(used.grid.resolution, SlamParams().registration.grid.resolution);
-  EXPECT_EQ(used.solver.coarse_step, SlamParams().registration.solver.coarse_step);
-  EXPECT_LT(ate, 0.3);
+  const ProfileRun run = runWithProfile(d, "auto");
+  EXPECT_EQ(run.profile.name, "dense");
+  EXPECT_NE(run.profile.reason.find("rings"), std::string::npos) << run.profile.reason;
+  EXPECT_DOUBLE_EQ(run.used.grid.resolution, SlamParams().registration.grid.resolution);
+  EXPECT_EQ(run.used.solver.coarse_step, SlamParams().registration.solver.coarse_step);
+  EXPECT_LT(run.ate, 0.3);
   if (!std::getenv("DLO_KEEP_TEST_OUTPUT")) fs::remove_all(d.dir);
 }
 

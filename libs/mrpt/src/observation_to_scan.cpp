@@ -19,6 +19,9 @@ namespace {
 void appendFiltered(const mrpt::poses::CPose3D& sensor_pose, const float* xs, const float* ys,
                     const float* zs, const float* times, size_t n, const ScanSourceOptions& options,
                     TimedScan& scan) {
+  scan.sensor_pose.linear() = sensor_pose.getRotationMatrix().asEigen();
+  scan.sensor_pose.translation() =
+      Eigen::Vector3d(sensor_pose.x(), sensor_pose.y(), sensor_pose.z());
   const Eigen::Matrix3f R = sensor_pose.getRotationMatrix().asEigen().cast<float>();
   const Eigen::Vector3f t(static_cast<float>(sensor_pose.x()), static_cast<float>(sensor_pose.y()),
                           static_cast<float>(sensor_pose.z()));

@@ -70,7 +70,6 @@ LidarOdometry::LidarOdometry(const SlamParams& params)
 OdometryStep LidarOdometry::process(double time, const PointCloud& points,
                                     const std::vector<float>& point_times) {
   OdometryStep step;
-  if (!sensor_checked_ && !points.empty()) adaptToSensor(points.size());
   const DloParams& reg = params_.registration;
   const double dt = frames_ == 0 ? 0.0 : time - last_time_;
   // Constant velocity: the motion of the last interval, repeated.
@@ -477,24 +476,6 @@ void LidarOdometry::rebuildLocalMap() {
   reference_.build(parts, reg.grid, reg.selection, reg.includeGround(), FrameUse::kReferenceOnly);
   reference_pose_ = anchor;
   has_reference_ = true;
-}
-
-void LidarOdometry::adaptToSensor(size_t points) {
-  sensor_checked_ = true;
-  const OdometryParams& o = params_.odometry;
-  if (o.sparse_scan_points == 0 || points >= static_cast<size_t>(o.sparse_scan_points)) return;
-  // Measured on simulated drives (README): at 0.1 m the rings of a VLP-16 leave a sensor-locked
-  // pattern of measured and filled cells that pulls registrations towards zero motion; 0.2 m
-  // cells over a 60 m window (sparse sensors see fewer nearby structures) register them.
-  HeightGridParams& g = params_.registration.grid;
-  g.resolution = o.sparse_resolution;
-  g.cols = g.rows = o.sparse_cells;
-  params_.odometry.reference = o.sparse_reference;
-  // Sparse scans need the coarse levels converged tightly (README, solver.coarse_step).
-  params_.registration.solver.coarse_step = o.sparse_coarse_step;
-  aligner_ = DirectAligner(params_.registration.solver);
-  scan_map_.reset();  // made on first use, with this grid
-  sparse_sensor_ = true;
 }
 
 LocalHeightMap& LidarOdometry::scanMap() {

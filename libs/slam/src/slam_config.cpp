@@ -23,19 +23,6 @@ std::vector<ParamField<SlamParams>> fields() {
                  "keyframes fused into the local map (reference = 2)"),
       paramField("odometry", "local_map_scans", &S::odometry, &O::local_map_scans,
                  "registered scans in the local height map (reference = 3)"),
-      paramField("odometry", "sparse_scan_points", &S::odometry, &O::sparse_scan_points,
-                 "a first scan with fewer points is from a sparse sensor (VLP-16 ~26,000 per "
-                 "sweep, HDL-32 ~65,000, HDL-64 ~128,000) and gets the sparse grid below; 0: "
-                 "always the [grid] section"),
-      paramField("odometry", "sparse_resolution", &S::odometry, &O::sparse_resolution,
-                 "metres per cell of a sparse sensor's grid"),
-      paramField("odometry", "sparse_cells", &S::odometry, &O::sparse_cells,
-                 "cells per side of a sparse sensor's grid"),
-      paramField("odometry", "sparse_reference", &S::odometry, &O::sparse_reference,
-                 "reference (as odometry.reference) for a sparse sensor: 3, the scan map"),
-      paramField("odometry", "sparse_coarse_step", &S::odometry, &O::sparse_coarse_step,
-                 "solver.coarse_step for a sparse sensor: 0, coarse levels converge as "
-                 "tightly as the finest"),
       paramField("odometry", "max_prior_deviation", &S::odometry, &O::max_prior_deviation,
                  "metres; a registration farther than this from the constant-velocity "
                  "prediction (rotations counted at solver.rotation_scale) is decided by the "

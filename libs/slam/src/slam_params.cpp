@@ -14,17 +14,6 @@ std::string SlamParams::validate() const {
     return outOfRange("odometry.local_map_keyframes", o.local_map_keyframes, "1..50");
   if (o.local_map_scans < 1 || o.local_map_scans > 100)
     return outOfRange("odometry.local_map_scans", o.local_map_scans, "1..100");
-  if (o.sparse_scan_points < 0)
-    return outOfRange("odometry.sparse_scan_points", o.sparse_scan_points, ">= 0 (0: off)");
-  if (!(o.sparse_resolution > 0.0 && o.sparse_resolution <= 5.0))
-    return outOfRange("odometry.sparse_resolution", o.sparse_resolution, "(0, 5] metres");
-  if (o.sparse_reference < 0 || o.sparse_reference > 3)
-    return outOfRange("odometry.sparse_reference", o.sparse_reference, "0..3 (as reference)");
-  if (!(o.sparse_coarse_step >= 0.0 && o.sparse_coarse_step <= 0.5))
-    return outOfRange("odometry.sparse_coarse_step", o.sparse_coarse_step,
-                      "[0, 0.5] (as solver.coarse_step)");
-  if (o.sparse_cells < 16 || o.sparse_cells > 4000)
-    return outOfRange("odometry.sparse_cells", o.sparse_cells, "16..4000");
   if (!(o.max_prior_deviation >= 0.0))
     return outOfRange("odometry.max_prior_deviation", o.max_prior_deviation,
                       ">= 0 metres (0: off)");

@@ -98,7 +98,7 @@ SlamAccuracy evaluateAgainst(const SlamMap& map, const metrics::Trajectory& grou
 }
 
 std::string slamReportJson(const SlamPipeline& pipeline, const std::string& input,
-                           const std::string& config_ini,
+                           const SensorProfileChoice& profile, const std::string& config_ini,
                            const std::optional<SlamAccuracy>& accuracy, bool interrupted,
                            const std::string& input_error) {
   const PipelineTimings& t = pipeline.timings();
@@ -139,7 +139,8 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
     << ", \"estimated_times_from_point_order\": " << c.times_from_order
     << ", \"estimated_times_from_config\": " << c.times_from_params << ", \"not_deskewed\": "
     << c.frames - c.times_measured - c.times_from_order - c.times_from_params << "},\n";
-  o << "  \"sparse_sensor\": " << (pipeline.sparseSensor() ? "true" : "false") << ",\n";
+  o << "  \"sensor_profile\": {\"name\": " << quoted(profile.name)
+    << ", \"chosen_because\": " << quoted(profile.reason) << "},\n";
   o << "  \"empty_frames\": " << c.empty_frames << ",\n";
   // Peak of the whole run so far (processing and export); the samples show how resident memory
   // evolved with the scans and how much of it the keyframes hold.

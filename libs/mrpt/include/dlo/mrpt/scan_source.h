@@ -4,6 +4,8 @@
 #pragma once
 
 #include <mrpt/core/Clock.h>
+
+#include <Eigen/Geometry>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -30,6 +32,9 @@ struct TimedScan {
   /// Time of each point in seconds relative to `timestamp` (same order as `points`); empty when
   /// the observation carries no per-point times.
   std::vector<float> point_times;
+  /// Pose of the sensor in the vehicle frame (the observation's sensorPose; identity where the
+  /// input has none): where the points' rings are centred (dlo::estimateRings).
+  Eigen::Isometry3d sensor_pose = Eigen::Isometry3d::Identity();
   /// Points dropped because a coordinate was NaN or infinite.
   size_t dropped_non_finite = 0;
   /// Points dropped by ScanSourceOptions::min_range / max_range.

@@ -81,11 +81,8 @@ class LidarOdometry {
   /// fast as the others. Read-only; SlamPipeline calls it at the end of a keyframe's scan.
   void warmCaches() const { current_.warmCaches(); }
 
-  /// The parameters in use: the constructor's, with the sparse sensor's grid once the first
-  /// scan has shown one (see OdometryParams::sparse_scan_points).
+  /// The parameters in use: the constructor's.
   const SlamParams& params() const { return params_; }
-  /// The first non-empty scan had fewer than odometry.sparse_scan_points points.
-  bool sparseSensor() const { return sparse_sensor_; }
 
   /// Current velocity estimate: body twist per second.
   const Vector6d& velocity() const { return velocity_; }
@@ -138,8 +135,6 @@ class LidarOdometry {
   void addKeyframe(const Eigen::Isometry3d& pose, const PointCloud& points,
                    const SweepMotion& motion, OdometryStep& step);
   void rebuildLocalMap();
-  /// On the first non-empty scan: switches to the sparse sensor's grid if it has few points.
-  void adaptToSensor(size_t points);
   /// reference = 3: adds a registered, deskewed scan to the local height map and re-extracts
   /// the reference around its pose.
   void updateScanMap(const PointCloud& points, const Eigen::Isometry3d& pose);
@@ -177,8 +172,6 @@ class LidarOdometry {
   size_t velocity_updates_ = 0;  ///< scans the velocity was measured from
   int rejected_run_ = 0;         ///< consecutive rejected registrations
   bool has_reference_ = false;
-  bool sensor_checked_ = false;
-  bool sparse_sensor_ = false;
 };
 
 }  // namespace dlo

@@ -14,27 +14,13 @@ struct OdometryParams {
   /// What each scan is registered against: 0 = the previous scan (the paper's frame-to-frame),
   /// 1 = the last keyframe, 2 = a local height map fused from the last `local_map_keyframes`,
   /// 3 = a world-fixed local height map of the last `local_map_scans` registered scans, updated
-  /// every scan (dlo::LocalHeightMap; what sparse sensors need, see sparse_reference).
+  /// every scan (dlo::LocalHeightMap; what sparse sensors need: config/sensors/sparse.ini).
   int reference = 2;
   int local_map_keyframes = 4;  ///< keyframes fused into the local map (reference = 2)
   /// Registered scans in the local height map (reference = 3). Fewer scans let a wrongly placed
   /// one leave the map sooner: over 20 simulated HDL-32 drives 15 ended 2 above 1 m ATE against
   /// 5 with 30 (median 0.40 against 0.49 m), over 40 VLP-16 drives 12 against 18.
   int local_map_scans = 15;
-  /// A first scan with fewer points than this comes from a sparse sensor (a simulated VLP-16
-  /// sweep has about 26,000 points, an HDL-32 one 65,000, an HDL-64 one 128,000): its rings are too
-  /// far apart for the [grid] cells, so the grid becomes sparse_cells x sparse_cells cells of
-  /// sparse_resolution. 0: the [grid] section is always used as it is.
-  int sparse_scan_points = 80000;
-  double sparse_resolution = 0.2;  ///< metres per cell for a sparse sensor
-  int sparse_cells = 300;          ///< cells per side for a sparse sensor (60 m at 0.2 m)
-  /// `reference` for a sparse sensor: the scan map, whose rings of 15 scans cover the ground
-  /// (on an HDL-64 it is no more accurate than the keyframe map and costs 3 ms per scan).
-  int sparse_reference = 3;
-  /// solver.coarse_step for a sparse sensor: 0, the coarse levels converge as tightly as the
-  /// finest (with 0.01, VLP-16 seeds 2-4 ended 0.85 / 1.05 / 1.15 m ATE against 0.55 / 0.88 /
-  /// 0.71 m).
-  double sparse_coarse_step = 0.0;
   /// Metres: a registration farther than this from the constant-velocity prediction (rotations
   /// counted as their displacement at solver.rotation_scale) is rejected, the prediction kept
   /// and the scan flagged degenerate; the bound grows by as much with every consecutive

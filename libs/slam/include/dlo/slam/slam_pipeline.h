@@ -84,8 +84,6 @@ class SlamPipeline {
   const PipelineTimings& timings() const { return timings_; }
   const PipelineCounters& counters() const { return counters_; }
   const SlamParams& params() const { return odometry_.params(); }
-  /// The first scan came from a sparse sensor (see OdometryParams::sparse_scan_points).
-  bool sparseSensor() const { return odometry_.sparseSensor(); }
   /// Memory after the first scan, then every kMemorySampleInterval scans.
   const std::vector<MemorySample>& memorySamples() const { return memory_; }
   /// Takes a memory sample now (also done automatically; call it after the last scan).

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "dlo/metrics/trajectory.h"
+#include "dlo/slam/sensor_profile.h"
 #include "dlo/slam/slam_pipeline.h"
 
 namespace dlo {
@@ -37,7 +38,7 @@ SlamAccuracy evaluateAgainst(const SlamMap& map, const metrics::Trajectory& grou
 /// Everything report.json holds, as JSON text.
 /// \param interrupted the run was stopped by a signal before the input ended.
 std::string slamReportJson(const SlamPipeline& pipeline, const std::string& input,
-                           const std::string& config_ini,
+                           const SensorProfileChoice& profile, const std::string& config_ini,
                            const std::optional<SlamAccuracy>& accuracy, bool interrupted,
                            const std::string& input_error);
 
