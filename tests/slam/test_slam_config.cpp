@@ -126,7 +126,23 @@ TEST(DloSlamCommandLine, ReadsAKittiFolderDirectly) {
   size_t poses = 0;
   while (std::getline(tum, line)) poses += (!line.empty() && line[0] != '#') ? 1 : 0;
   EXPECT_EQ(poses, 22u);  // one per scan of the folder
+  // The real HDL-64 sweeps: dense, by their point count (their rings blur, see RingCount).
+  std::ifstream report(out / "report.json");
+  const std::string text((std::istreambuf_iterator<char>(report)),
+                         std::istreambuf_iterator<char>());
+  EXPECT_NE(
+      text.find("\"sensor_profile\": {\"name\": \"dense\", \"chosen_because\": \"the first scan "
+                "has"),
+      std::string::npos)
+      << text;
   fs::remove_all(out);
+}
+
+TEST(DloSlamCommandLine, AnUnknownSensorProfileIsNamed) {
+  const CliRun r = dloSlam("--input " + kKittiCity +
+                           " --out /tmp/dlo_slam_cli_out --sensor-profile medium --quiet");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("'medium'"), std::string::npos) << r.err;
 }
 
 TEST(DloSlamCommandLine, AFolderWithoutScansIsNamed) {
