@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include "dlo/sim/procedural_world.h"
 #include "dlo/sim/route.h"

@@ -16,7 +16,7 @@ ProceduralWorld::ProceduralWorld(Terrain terrain, std::vector<Primitive> objects
 
 namespace {
 
-/// Everything generate() needs while placing objects.
+/// Everything generate() and generateOpenRoad() need while placing objects.
 struct Builder {
   const Terrain& terrain;
   DeterministicRng& rng;
