@@ -196,9 +196,30 @@ TEST(DloSimulate, BadArgumentsAreOneSentenceAndExitStatusOne) {
   r = runSimulator(out + " --frames 0");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("--frames"), std::string::npos) << r.err;
+  for (const char* hills : {" --hills 0.5", " --hills steep", " --hills"}) {
+    r = runSimulator(out + hills);
+    EXPECT_EQ(r.status, 1) << hills;
+    EXPECT_NE(r.err.find("--hills"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
   r = runSimulator("--out /proc/dlo_simulate_cannot_write --frames 1");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("--out"), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_EQ(runSimulator("--help > /dev/null").status, 0);
+}
+
+TEST(DloSimulate, DrivesAnOpenRoadOverHillsWithStopsDeterministically) {
+  const fs::path a = freshDir("conditions_a"), b = freshDir("conditions_b");
+  const std::string options = " --frames 2 --sensor VLP16 --open-road --hills 0.2 --stops --quiet";
+  ASSERT_EQ(runSimulator("--out " + a.string() + options).status, 0);
+  ASSERT_EQ(runSimulator("--out " + b.string() + options + " --threads 1").status, 0);
+  EXPECT_EQ(slurp(a / "sequence.rawlog"), slurp(b / "sequence.rawlog"));
+  EXPECT_EQ(slurp(a / "groundtruth.tum"), slurp(b / "groundtruth.tum"));
+  std::ifstream tum(a / "groundtruth.tum");
+  std::string line;
+  int poses = 0;
+  while (std::getline(tum, line)) poses += line[0] != '#';
+  EXPECT_EQ(poses, 2);
+  EXPECT_GT(fs::file_size(a / "sequence.rawlog"), 100000u);
 }
