@@ -30,6 +30,10 @@ struct TimedScan {
   /// Time of each point in seconds relative to `timestamp` (same order as `points`); empty when
   /// the observation carries no per-point times.
   std::vector<float> point_times;
+  /// Beams (rings) of the sensor where the observation says: the calibration table or laser ids
+  /// of a CObservationVelodyneScan, the rows of a CObservationRotatingScan; 0 = unknown (point
+  /// clouds, 3D range scans, KITTI files).
+  int beams = 0;
   /// Points dropped because a coordinate was NaN or infinite.
   size_t dropped_non_finite = 0;
   /// Points dropped by ScanSourceOptions::min_range / max_range.
