@@ -254,10 +254,10 @@ int run(const Arguments& a) {
                trajectory.geometry().sensorPosition.y(), trajectory.geometry().sensorPosition.z());
 
   auto archive = mrpt::serialization::archiveFrom(rawlog);
+  const Eigen::Isometry3d mount = trajectory.sensorMount();
   const auto start = std::chrono::steady_clock::now();
   for (int k = 0; k < a.frames; ++k) {
     const dlo::sim::Sweep sweep = simulator.simulate(k);
-    const Eigen::Isometry3d mount = trajectory.sensorMount();
     if (a.no_point_times) {
       archive << *dlo::withoutPointTimes(sweep, simulator, mount, epoch, "LIDAR");
     } else if (params.model.velodyne()) {
