@@ -60,16 +60,21 @@ fs::path freshDir(const std::string& name) {
   return d;
 }
 
-/// The simulator dlo-simulate runs for `sensor` and `seed` with its default route, in process.
+/// The simulator dlo-simulate runs for `sensor`, `seed`, --sweep-start and --spin with its
+/// default route, in process.
 struct InProcessSimulation {
-  InProcessSimulation(dlo::sim::SensorType sensor, uint32_t seed)
+  InProcessSimulation(dlo::sim::SensorType sensor, uint32_t seed, double sweepStartDeg = 0.0,
+                      int spinDirection = -1)
       : world(dlo::sim::ProceduralWorld::generate(seed)),
         route(dlo::sim::Route::roundedRectangle(layout.loopMin, layout.loopMax, 10.0)),
         trajectory(route, world.terrain()),
-        simulator(world, trajectory, parameters(sensor, seed)) {}
-  static dlo::sim::SweepSimulatorParams parameters(dlo::sim::SensorType sensor, uint32_t seed) {
+        simulator(world, trajectory, parameters(sensor, seed, sweepStartDeg, spinDirection)) {}
+  static dlo::sim::SweepSimulatorParams parameters(dlo::sim::SensorType sensor, uint32_t seed,
+                                                   double sweepStartDeg, int spinDirection) {
     dlo::sim::SweepSimulatorParams p;
     p.model = dlo::sim::makeLidarModel(sensor);
+    p.model.sweepStartDeg = sweepStartDeg;
+    p.model.spinDirection = spinDirection;
     p.seed = seed;
     return p;
   }
@@ -165,16 +170,9 @@ TEST(DloSimulate, StoresTheSimulatedPointsWithTheirFiringTimesAndPacketsThatDeco
   ASSERT_TRUE(velo);
 
   // The same sweep, in process.
-  using namespace dlo::sim;
-  const auto world = ProceduralWorld::generate(4);
-  const WorldParams layout;
-  const Route route = Route::roundedRectangle(layout.loopMin, layout.loopMax, 10.0);
-  const VehicleTrajectory traj(route, world.terrain());
-  SweepSimulatorParams sp;
-  sp.model = makeLidarModel(SensorType::HDL32);
-  sp.seed = 4;
-  const SweepSimulator sim(world, traj, sp);
-  const Sweep s = sim.simulate(0);
+  const InProcessSimulation in(dlo::sim::SensorType::HDL32, 4);
+  const dlo::sim::SweepSimulator& sim = in.simulator;
+  const dlo::sim::Sweep s = sim.simulate(0);
 
   // Stored points: firing-major, laser-minor, at their own firing time.
   const auto& pc = velo->point_cloud;
@@ -226,45 +224,54 @@ TEST(DloSimulate, StoresTheSimulatedPointsWithTheirFiringTimesAndPacketsThatDeco
 }
 
 TEST(DloSimulate, WritesOusterSweepsAsRangeImagesThatTheReaderTurnsIntoTheSimulatedPoints) {
-  const fs::path dir = freshDir("ouster");
-  ASSERT_EQ(
-      runSimulator("--out " + dir.string() + " --frames 1 --sensor OS64 --seed 4 --quiet").status,
-      0);
-  {
-    mrpt::io::CFileGZInputStream f((dir / "sequence.rawlog").string());
-    auto rot = std::dynamic_pointer_cast<mrpt::obs::CObservationRotatingScan>(
-        mrpt::serialization::archiveFrom(f).ReadObject());
-    ASSERT_TRUE(rot);
-    EXPECT_EQ(rot->lidarModel, "OS1-64");
-    EXPECT_EQ(rot->rowCount, 64);
-    EXPECT_EQ(rot->columnCount, 1024);
-    EXPECT_NEAR(rot->sensorPose.z(), 1.8, 1e-9);
-  }
-  dlo::RawlogScanSource source((dir / "sequence.rawlog").string());
-  dlo::TimedScan scan;
-  ASSERT_TRUE(source.next(scan));
-  EXPECT_EQ(scan.beams, 64);
-  ASSERT_EQ(scan.point_times.size(), scan.points.size());
-
-  // The same sweep in process: every return, column by column, at its column's time, within
-  // the 2 mm range units of the range image.
-  const InProcessSimulation in(dlo::sim::SensorType::OS64, 4);
-  const dlo::sim::Sweep s = in.simulator.simulate(0);
-  const Eigen::Isometry3d mount = in.trajectory.sensorMount();
-  size_t k = 0;
-  for (int fi = 0; fi < s.firings; ++fi) {
-    for (int l = 0; l < s.lasers; ++l) {
-      if (s.range[s.index(fi, l)] <= 0) continue;
-      ASSERT_LT(k, scan.points.size());
-      const Eigen::Vector3d q = mount * in.simulator.sensorPoint(s, fi, l);
-      ASSERT_LT((scan.points[k].cast<double>() - q).norm(), 1.5e-3) << fi << " " << l;
-      ASSERT_NEAR(scan.point_times[k],
-                  (in.simulator.pointTimeNs(s, fi, l) - s.referenceTimeNs) * 1e-9, 1e-6);
-      ++k;
+  struct Case {
+    std::string options;
+    double start;
+    int spin;
+  };
+  for (const Case& c : {Case{"", 0.0, -1}, Case{"--sweep-start 90 --spin ccw", 90.0, 1}}) {
+    SCOPED_TRACE(c.options);
+    const fs::path dir = freshDir("ouster");
+    ASSERT_EQ(runSimulator("--out " + dir.string() + " --frames 1 --sensor OS64 --seed 4 " +
+                           c.options + " --quiet")
+                  .status,
+              0);
+    {
+      mrpt::io::CFileGZInputStream f((dir / "sequence.rawlog").string());
+      auto rot = std::dynamic_pointer_cast<mrpt::obs::CObservationRotatingScan>(
+          mrpt::serialization::archiveFrom(f).ReadObject());
+      ASSERT_TRUE(rot);
+      EXPECT_EQ(rot->lidarModel, "OS1-64");
+      EXPECT_EQ(rot->rowCount, 64);
+      EXPECT_EQ(rot->columnCount, 1024);
+      EXPECT_NEAR(rot->sensorPose.z(), 1.8, 1e-9);
     }
+    dlo::RawlogScanSource source((dir / "sequence.rawlog").string());
+    dlo::TimedScan scan;
+    ASSERT_TRUE(source.next(scan));
+    EXPECT_EQ(scan.beams, 64);
+    ASSERT_EQ(scan.point_times.size(), scan.points.size());
+
+    // The same sweep in process: every return, column by column, at its column's time, within
+    // the 2 mm range units of the range image.
+    const InProcessSimulation in(dlo::sim::SensorType::OS64, 4, c.start, c.spin);
+    const dlo::sim::Sweep s = in.simulator.simulate(0);
+    const Eigen::Isometry3d mount = in.trajectory.sensorMount();
+    size_t k = 0;
+    for (int fi = 0; fi < s.firings; ++fi) {
+      for (int l = 0; l < s.lasers; ++l) {
+        if (s.range[s.index(fi, l)] <= 0) continue;
+        ASSERT_LT(k, scan.points.size());
+        const Eigen::Vector3d q = mount * in.simulator.sensorPoint(s, fi, l);
+        ASSERT_LT((scan.points[k].cast<double>() - q).norm(), 1.5e-3) << fi << " " << l;
+        ASSERT_NEAR(scan.point_times[k],
+                    (in.simulator.pointTimeNs(s, fi, l) - s.referenceTimeNs) * 1e-9, 1e-6);
+        ++k;
+      }
+    }
+    EXPECT_EQ(k, scan.points.size());
+    EXPECT_FALSE(source.next(scan));
   }
-  EXPECT_EQ(k, scan.points.size());
-  EXPECT_FALSE(source.next(scan));
 }
 
 TEST(DloSimulate, UntimedSweepsStartAtTheGivenAzimuthAndTurnInTheGivenDirection) {
