@@ -23,6 +23,11 @@ Conditions:
   stop          the town's laps with hard stops: 6 s in and every 12 s after, braking at 7 m/s^2
                 to a standstill, 2 s still, accelerating again at 2.5 m/s^2
   stop-notimes  the stops without per-point times
+  notimes-ccw   without per-point times, the head turning counter-clockwise (--spin ccw)
+  notimes-start90  without per-point times, each sweep starting at 90 deg (left, --sweep-start 90)
+
+Sensors (--sensors, passed to dlo-simulate --sensor): HDL64, HDL32, VLP16, OS64 and OS128
+(Ouster-like, 64 and 128 beams over +22.5..-22.5 deg, 1024 columns).
 
 Example:
   python3 scripts/eval_matrix.py --out /tmp/matrix --sensors HDL64 VLP16 --seeds 1 2 3
@@ -52,6 +57,13 @@ CONDITIONS = {
     "open-road-notimes": (["--open-road", "--no-point-times"], ["odometry.sweep_stamp=0"]),
     "stop": (["--stops"], []),
     "stop-notimes": (["--stops", "--no-point-times"], ["odometry.sweep_stamp=0"]),
+    # Other spin directions and sweep starts, described to dlo-slam as the data has them (its
+    # firing order shows them too; the settings are the fallback for clouds without order).
+    "notimes-ccw": (["--no-point-times", "--spin", "ccw"],
+                    ["odometry.sweep_stamp=0", "odometry.sweep_direction=1",
+                     "odometry.sweep_start_azimuth=0"]),
+    "notimes-start90": (["--no-point-times", "--sweep-start", "90"],
+                        ["odometry.sweep_stamp=0", "odometry.sweep_start_azimuth=90"]),
 }
 
 
@@ -67,7 +79,9 @@ def main():
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", required=True, help="output folder (drives are cached in OUT/data)")
     ap.add_argument("--build", default="build", help="build folder with the apps (default build)")
-    ap.add_argument("--sensors", nargs="+", default=["HDL64", "HDL32", "VLP16"])
+    ap.add_argument("--sensors", nargs="+", default=["HDL64", "HDL32", "VLP16"],
+                    help="dlo-simulate sensors: HDL64 HDL32 VLP16 OS64 OS128 "
+                         "(default HDL64 HDL32 VLP16)")
     ap.add_argument("--seeds", nargs="+", type=int, default=[1, 2, 3])
     ap.add_argument("--conditions", nargs="+", default=list(CONDITIONS), choices=list(CONDITIONS))
     ap.add_argument("--frames", type=int, default=300, help="sweeps per drive (default 300)")

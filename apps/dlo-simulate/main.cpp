@@ -14,15 +14,16 @@
 #include "dlo/sim/route.h"
 #include "dlo/sim/sweep_simulator.h"
 #include "dlo/sim/vehicle_trajectory.h"
+#include "sweep_observations.h"
 #include "velodyne_observation.h"
 
 namespace {
 
 constexpr const char* kUsage =
-    R"(Usage: dlo-simulate --out DIR [--frames N] [--sensor HDL64|HDL32|VLP16] [--seed S]
-                    [--corner-transition M] [--patrol [--speed V] [--turn-rate W]]
-                    [--hills G] [--open-road] [--stops]
-                    [--no-point-times] [--threads T] [--quiet] [--help]
+    R"(Usage: dlo-simulate --out DIR [--frames N] [--sensor HDL64|HDL32|VLP16|OS64|OS128]
+                    [--seed S] [--corner-transition M] [--patrol [--speed V] [--turn-rate W]]
+                    [--hills G] [--open-road] [--stops] [--no-point-times]
+                    [--sweep-start DEG] [--spin cw|ccw] [--threads T] [--quiet] [--help]
 
 Simulates a LiDAR on a car driving laps around a 60 x 40 m block of a procedural town on
 rolling hills (roads with crown and kerbs, buildings, trees, poles, parked and moving cars),
@@ -32,14 +33,18 @@ up and down over about a second, as when steering), and writes:
                         point_cloud holds the points in the sensor frame with per-point
                         timestamps (motion distortion, range noise and dropouts included),
                         scan_packets the same returns as Velodyne packets; sensorPose is the
-                        mounting pose on the vehicle (see datasets/README.md)
+                        mounting pose on the vehicle (see datasets/README.md); OS64 and
+                        OS128 sweeps, which Velodyne packets cannot hold, are written as
+                        mrpt::obs::CObservationRotatingScan range images (lidarModel
+                        OS1-64 / OS1-128, one time per column)
   DIR/groundtruth.tum   "timestamp x y z qx qy qz qw" of the vehicle frame in the world at
                         each sweep's reference time (its first firing)
 
 Options:
   --out DIR      output folder (created if missing)
   --frames N     number of sweeps, 10 per second (default 300)
-  --sensor S     VLP16, HDL32 or HDL64 (default HDL64)
+  --sensor S     VLP16, HDL32, HDL64 (Velodyne), OS64 or OS128 (Ouster OS1-like: 64 or 128
+                 beams evenly over +22.5..-22.5 deg, 1024 columns, 0.5-120 m) (default HDL64)
   --seed S       world and noise seed; the same seed gives byte-identical files (default 1)
   --corner-transition M
                  metres of clothoid over which each corner's curvature ramps up and down
@@ -65,6 +70,11 @@ Options:
                  write each sweep as an mrpt::obs::CObservationPointCloud of the same points
                  (sensor frame, firing order, motion distortion included) without per-point
                  times, as KITTI files and most point-cloud inputs come
+  --sweep-start DEG
+                 azimuth where each sweep starts, degrees counter-clockwise from the
+                 sensor's forward axis, in [-360, 360] (default 0: forward)
+  --spin D       rotation of the head seen from above: cw (default, as Velodyne and Ouster
+                 sensors) or ccw
   --threads T    worker threads (default 2); the output does not depend on it
   --quiet        no progress on stderr
   --help         prints this text
@@ -92,6 +102,8 @@ struct Arguments {
   bool open_road = false;
   bool stops = false;
   bool no_point_times = false;
+  double sweep_start = 0.0;
+  int spin = -1;  // -1 clockwise, +1 counter-clockwise
   bool quiet = false;
   bool help = false;
 };
@@ -157,7 +169,8 @@ Arguments parseArguments(int argc, char** argv) {
       arg = arg.substr(0, eq);
     } else if (arg == "--out" || arg == "--frames" || arg == "--sensor" || arg == "--seed" ||
                arg == "--threads" || arg == "--corner-transition" || arg == "--speed" ||
-               arg == "--turn-rate" || arg == "--hills") {
+               arg == "--turn-rate" || arg == "--hills" || arg == "--sweep-start" ||
+               arg == "--spin") {
       if (i + 1 >= argc) throw UserError{arg + " needs a value."};
       value = argv[++i];
     }
@@ -167,7 +180,10 @@ Arguments parseArguments(int argc, char** argv) {
       a.frames = static_cast<int>(parseInteger("--frames", value, 1, 10000000, "an integer >= 1"));
     } else if (arg == "--sensor") {
       const auto s = dlo::sim::parseSensorType(value);
-      if (!s) throw UserError{"--sensor must be VLP16, HDL32 or HDL64, got '" + value + "'."};
+      if (!s) {
+        throw UserError{"--sensor must be VLP16, HDL32, HDL64, OS64 or OS128, got '" + value +
+                        "'."};
+      }
       a.sensor = *s;
     } else if (arg == "--seed") {
       a.seed = static_cast<uint32_t>(
@@ -181,6 +197,13 @@ Arguments parseArguments(int argc, char** argv) {
       a.turn_rate = parseNumber("--turn-rate", value, 10.0, 180.0, "a rate in [10, 180] deg/s");
     } else if (arg == "--hills") {
       a.hills = parseNumber("--hills", value, 0.05, 0.3, "a grade in [0.05, 0.3]");
+    } else if (arg == "--sweep-start") {
+      a.sweep_start =
+          parseNumber("--sweep-start", value, -360.0, 360.0, "an angle in [-360, 360] degrees");
+    } else if (arg == "--spin") {
+      if (value != "cw" && value != "ccw")
+        throw UserError{"--spin must be cw or ccw, got '" + value + "'."};
+      a.spin = value == "cw" ? -1 : 1;
     } else if (arg == "--threads") {
       a.threads =
           static_cast<int>(parseInteger("--threads", value, 1, 64, "an integer in [1, 64]"));
@@ -248,6 +271,8 @@ int run(const Arguments& a) {
   const dlo::sim::VehicleTrajectory trajectory(route, world.terrain());
   dlo::sim::SweepSimulatorParams params;
   params.model = dlo::sim::makeLidarModel(a.sensor);
+  params.model.sweepStartDeg = a.sweep_start;
+  params.model.spinDirection = a.spin;
   params.seed = a.seed;
   params.threads = a.threads;
   const dlo::sim::SweepSimulator simulator(world, trajectory, params);
@@ -260,15 +285,16 @@ int run(const Arguments& a) {
                trajectory.geometry().sensorPosition.y(), trajectory.geometry().sensorPosition.z());
 
   auto archive = mrpt::serialization::archiveFrom(rawlog);
+  const Eigen::Isometry3d mount = trajectory.sensorMount();
   const auto start = std::chrono::steady_clock::now();
   for (int k = 0; k < a.frames; ++k) {
     const dlo::sim::Sweep sweep = simulator.simulate(k);
-    const auto obs =
-        dlo::toVelodyneScan(sweep, simulator, trajectory.sensorMount(), epoch, "LIDAR");
     if (a.no_point_times) {
-      archive << *dlo::withoutPointTimes(*obs);
+      archive << *dlo::withoutPointTimes(sweep, simulator, mount, epoch, "LIDAR");
+    } else if (params.model.velodyne()) {
+      archive << *dlo::toVelodyneScan(sweep, simulator, mount, epoch, "LIDAR");
     } else {
-      archive << *obs;
+      archive << *dlo::toRotatingScan(sweep, simulator, mount, epoch, "LIDAR");
     }
     const Eigen::Isometry3d pose =
         trajectory.vehiclePose(static_cast<double>(sweep.referenceTimeNs) * 1e-9);

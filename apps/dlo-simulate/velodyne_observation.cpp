@@ -1,8 +1,6 @@
 #include "velodyne_observation.h"
 
-#include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/math/CMatrixFixed.h>
-#include <mrpt/poses/CPose3D.h>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -54,6 +52,13 @@ mrpt::Clock::time_point addNanoseconds(mrpt::Clock::time_point epoch, int64_t ns
   return epoch + mrpt::Clock::duration((ns + 50) / 100);
 }
 
+mrpt::poses::CPose3D mountPose(const Eigen::Isometry3d& sensorMount) {
+  mrpt::math::CMatrixDouble44 h;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) h(r, c) = sensorMount.matrix()(r, c);
+  return mrpt::poses::CPose3D(h);
+}
+
 mrpt::obs::CObservationVelodyneScan::Ptr toVelodyneScan(const sim::Sweep& sweep,
                                                         const sim::SweepSimulator& simulator,
                                                         const Eigen::Isometry3d& sensorMount,
@@ -67,10 +72,7 @@ mrpt::obs::CObservationVelodyneScan::Ptr toVelodyneScan(const sim::Sweep& sweep,
   obs->has_satellite_timestamp = true;
   obs->minRange = m.minRange;
   obs->maxRange = m.maxRange;
-  mrpt::math::CMatrixDouble44 h;
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) h(r, c) = sensorMount.matrix()(r, c);
-  obs->sensorPose = mrpt::poses::CPose3D(h);
+  obs->sensorPose = mountPose(sensorMount);
 
   obs->calibration.laser_corrections.resize(m.laserCount());
   for (int l = 0; l < m.laserCount(); ++l) {
@@ -135,20 +137,6 @@ mrpt::obs::CObservationVelodyneScan::Ptr toVelodyneScan(const sim::Sweep& sweep,
     bytes.u8(1205, modelId);
     bytes.copyTo(obs->scan_packets[p]);
   }
-  return obs;
-}
-
-mrpt::obs::CObservationPointCloud::Ptr withoutPointTimes(
-    const mrpt::obs::CObservationVelodyneScan& scan) {
-  auto obs = mrpt::obs::CObservationPointCloud::Create();
-  obs->sensorLabel = scan.sensorLabel;
-  obs->timestamp = scan.timestamp;
-  obs->sensorPose = scan.sensorPose;
-  auto map = mrpt::maps::CSimplePointsMap::Create();
-  const auto& pc = scan.point_cloud;
-  map->reserve(pc.size());
-  for (size_t i = 0; i < pc.size(); ++i) map->insertPointFast(pc.x[i], pc.y[i], pc.z[i]);
-  obs->pointcloud = map;
   return obs;
 }
 

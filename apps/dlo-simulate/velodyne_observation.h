@@ -2,8 +2,8 @@
 #pragma once
 
 #include <mrpt/core/Clock.h>
-#include <mrpt/obs/CObservationPointCloud.h>
 #include <mrpt/obs/CObservationVelodyneScan.h>
+#include <mrpt/poses/CPose3D.h>
 #include <Eigen/Geometry>
 #include <string>
 
@@ -35,12 +35,9 @@ mrpt::obs::CObservationVelodyneScan::Ptr toVelodyneScan(const sim::Sweep& sweep,
                                                         const std::string& sensorLabel);
 
 /// `epoch` plus a duration in nanoseconds, at MRPT's 100 ns clock resolution.
-/// The points of `scan`'s point_cloud (sensor frame, firing order) as a CObservationPointCloud
-/// of a CSimplePointsMap, with the same timestamp, label and sensorPose but no per-point times:
-/// what KITTI files and most point-cloud inputs give.
-mrpt::obs::CObservationPointCloud::Ptr withoutPointTimes(
-    const mrpt::obs::CObservationVelodyneScan& scan);
-
 mrpt::Clock::time_point addNanoseconds(mrpt::Clock::time_point epoch, int64_t ns);
+
+/// The sensor's mounting pose on the vehicle as an observation's sensorPose.
+mrpt::poses::CPose3D mountPose(const Eigen::Isometry3d& sensorMount);
 
 }  // namespace dlo

@@ -202,7 +202,7 @@ int run(const Arguments& args) {
   dlo::SensorProfileChoice profile{args.sensor_profile, "--sensor-profile"};
   if (auto_profile && !first.empty()) {
     const dlo::TimedScan& s = first.back();
-    profile = dlo::chooseSensorProfile(dlo::sensorEvidence(s.points, 0, s.sensor_pose));
+    profile = dlo::chooseSensorProfile(dlo::sensorEvidence(s.points, s.beams, s.sensor_pose));
     params = dlo::resolveSlamParams(profile.name, layers);
     if (!args.quiet) {
       std::cerr << "dlo-slam: sensor profile " << profile.name << " (" << profile.reason << ").\n";

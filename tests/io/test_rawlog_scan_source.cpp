@@ -48,6 +48,7 @@ TEST(RawlogScanSource, ReadsTheRealVlp16VelodyneScanWithPointTimes) {
   const TimedScan& s = scans[0];
   EXPECT_EQ(s.source_class, "CObservationVelodyneScan");
   EXPECT_EQ(s.sensor_label, "Velodyne1_SCAN");
+  EXPECT_EQ(s.beams, 16);
   EXPECT_GT(s.points.size(), 10000u);
   float zmin = 1e9f, zmax = -1e9f, rmax = 0;
   for (const auto& p : s.points) {
@@ -219,6 +220,55 @@ TEST(RawlogScanSource, SkipsAndCountsOtherClassesAndEmptyScans) {
   const std::string summary = describeScanSourceStats(st);
   EXPECT_NE(summary.find("CObservationOdometry: 2"), std::string::npos) << summary;
   EXPECT_EQ(scans[1].entry_index, 5u);
+  EXPECT_EQ(scans[0].beams, 0);  // A point cloud does not say.
+}
+
+TEST(RawlogScanSource, ReadsAnOusterRangeImageWithItsColumnTimesAndBeamCount) {
+  // 64 beams x 8 columns, every return at 10 m, turning clockwise from 0.5 rad over 0.07 s.
+  mrpt::obs::CObservationRotatingScan rot;
+  rot.lidarModel = "OS1-64";
+  rot.rowCount = 64;
+  rot.columnCount = 8;
+  rot.rangeResolution = 0.002;
+  rot.rangeImage.setConstant(64, 8, 5000);
+  rot.rangeImage(3, 2) = 0;  // no return
+  rot.startAzimuth = 0.5;
+  rot.azimuthSpan = -0.7;
+  rot.sweepDuration = 0.07;
+  mrpt::obs::CObservationRotatingScan unknown = rot;
+  unknown.lidarModel = "VLP-16";
+  TempDir dir;
+  {
+    RawlogWriter w(dir.path("ouster.rawlog"));
+    w.write(rot);
+    w.write(unknown);
+    w.commit();
+  }
+  RawlogScanSource source(dir.path("ouster.rawlog"));
+  const auto scans = readAll(source);
+  ASSERT_EQ(scans.size(), 1u);
+  const TimedScan& s = scans[0];
+  EXPECT_EQ(s.source_class, "CObservationRotatingScan");
+  EXPECT_EQ(s.beams, 64);
+  ASSERT_EQ(s.points.size(), 64u * 8u - 1u);
+  ASSERT_EQ(s.point_times.size(), s.points.size());
+  // Column by column, beam 0 (the highest) first.
+  size_t k = 0;
+  for (int c = 0; c < 8; ++c) {
+    for (int r = 0; r < 64; ++r) {
+      if (r == 3 && c == 2) continue;
+      const Eigen::Vector3f& p = s.points[k];
+      EXPECT_NEAR(p.norm(), 10.0f, 1e-4f);
+      EXPECT_NEAR(std::atan2(p.y(), p.x()), 0.5 - 0.1 * c, 1e-5) << c;
+      EXPECT_NEAR(std::asin(p.z() / p.norm()) * 180.0 / M_PI, 22.5 - r * 45.0 / 63.0, 1e-3) << r;
+      EXPECT_NEAR(s.point_times[k], 0.01 * c, 1e-6) << c;
+      ++k;
+    }
+  }
+  // No elevation table for other models in MRPT 2.5: skipped with the reason.
+  EXPECT_EQ(source.stats().skipped_by_class.at("CObservationRotatingScan"), 1u);
+  EXPECT_NE(source.stats().skip_reasons.at("CObservationRotatingScan").find("OS1-<rows>"),
+            std::string::npos);
 }
 
 TEST(RawlogScanSource, ReadsPointsOfA3DRangeScan) {

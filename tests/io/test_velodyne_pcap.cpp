@@ -23,6 +23,7 @@ TEST(VelodynePcapScanSource, ReadsFourRotationsWithPointTimesFromTheRealCapture)
     const TimedScan& s = scans[i];
     EXPECT_EQ(s.entry_index, i);
     EXPECT_GT(s.points.size(), 3000u);
+    EXPECT_EQ(s.beams, 16);
     ASSERT_EQ(s.point_times.size(), s.points.size());
     const auto [tmin, tmax] = std::minmax_element(s.point_times.begin(), s.point_times.end());
     EXPECT_GE(*tmin, -0.001f);

@@ -3,6 +3,8 @@
 #include <sys/wait.h>
 
 #include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/obs/CObservationPointCloud.h>
+#include <mrpt/obs/CObservationRotatingScan.h>
 #include <mrpt/obs/CObservationVelodyneScan.h>
 #include <mrpt/serialization/CArchive.h>
 #include <algorithm>
@@ -13,6 +15,8 @@
 #include <sstream>
 #include <string>
 
+#include "dlo/core/sweep_timing.h"
+#include "dlo/mrpt/rawlog_scan_source.h"
 #include "dlo/sim/procedural_world.h"
 #include "dlo/sim/route.h"
 #include "dlo/sim/sweep_simulator.h"
@@ -54,6 +58,44 @@ fs::path freshDir(const std::string& name) {
   const fs::path d = fs::path(testing::TempDir()) / ("dlo_simulate_" + name);
   fs::remove_all(d);
   return d;
+}
+
+/// The simulator dlo-simulate runs for `sensor`, `seed`, --sweep-start and --spin with its
+/// default route, in process.
+struct InProcessSimulation {
+  InProcessSimulation(dlo::sim::SensorType sensor, uint32_t seed, double sweepStartDeg = 0.0,
+                      int spinDirection = -1)
+      : world(dlo::sim::ProceduralWorld::generate(seed)),
+        route(dlo::sim::Route::roundedRectangle(layout.loopMin, layout.loopMax, 10.0)),
+        trajectory(route, world.terrain()),
+        simulator(world, trajectory, parameters(sensor, seed, sweepStartDeg, spinDirection)) {}
+  static dlo::sim::SweepSimulatorParams parameters(dlo::sim::SensorType sensor, uint32_t seed,
+                                                   double sweepStartDeg, int spinDirection) {
+    dlo::sim::SweepSimulatorParams p;
+    p.model = dlo::sim::makeLidarModel(sensor);
+    p.model.sweepStartDeg = sweepStartDeg;
+    p.model.spinDirection = spinDirection;
+    p.seed = seed;
+    return p;
+  }
+  dlo::sim::ProceduralWorld world;
+  dlo::sim::WorldParams layout;
+  dlo::sim::Route route;
+  dlo::sim::VehicleTrajectory trajectory;
+  dlo::sim::SweepSimulator simulator;
+};
+
+/// Circular mean azimuth of points [first, last) of `map`, degrees counter-clockwise from +x.
+double meanAzimuthDeg(const mrpt::maps::CPointsMap& map, size_t first, size_t last) {
+  double sx = 0, sy = 0;
+  for (size_t i = first; i < last; ++i) {
+    float x, y, z;
+    map.getPointFast(i, x, y, z);
+    const double a = std::atan2(y, x);
+    sx += std::cos(a);
+    sy += std::sin(a);
+  }
+  return std::atan2(sy, sx) * 180.0 / M_PI;
 }
 
 }  // namespace
@@ -128,16 +170,9 @@ TEST(DloSimulate, StoresTheSimulatedPointsWithTheirFiringTimesAndPacketsThatDeco
   ASSERT_TRUE(velo);
 
   // The same sweep, in process.
-  using namespace dlo::sim;
-  const auto world = ProceduralWorld::generate(4);
-  const WorldParams layout;
-  const Route route = Route::roundedRectangle(layout.loopMin, layout.loopMax, 10.0);
-  const VehicleTrajectory traj(route, world.terrain());
-  SweepSimulatorParams sp;
-  sp.model = makeLidarModel(SensorType::HDL32);
-  sp.seed = 4;
-  const SweepSimulator sim(world, traj, sp);
-  const Sweep s = sim.simulate(0);
+  const InProcessSimulation in(dlo::sim::SensorType::HDL32, 4);
+  const dlo::sim::SweepSimulator& sim = in.simulator;
+  const dlo::sim::Sweep s = sim.simulate(0);
 
   // Stored points: firing-major, laser-minor, at their own firing time.
   const auto& pc = velo->point_cloud;
@@ -188,6 +223,103 @@ TEST(DloSimulate, StoresTheSimulatedPointsWithTheirFiringTimesAndPacketsThatDeco
   EXPECT_LT(worst, 1.0);
 }
 
+TEST(DloSimulate, WritesOusterSweepsAsRangeImagesThatTheReaderTurnsIntoTheSimulatedPoints) {
+  struct Case {
+    std::string options;
+    double start;
+    int spin;
+  };
+  for (const Case& c : {Case{"", 0.0, -1}, Case{"--sweep-start 90 --spin ccw", 90.0, 1}}) {
+    SCOPED_TRACE(c.options);
+    const fs::path dir = freshDir("ouster");
+    ASSERT_EQ(runSimulator("--out " + dir.string() + " --frames 1 --sensor OS64 --seed 4 " +
+                           c.options + " --quiet")
+                  .status,
+              0);
+    {
+      mrpt::io::CFileGZInputStream f((dir / "sequence.rawlog").string());
+      auto rot = std::dynamic_pointer_cast<mrpt::obs::CObservationRotatingScan>(
+          mrpt::serialization::archiveFrom(f).ReadObject());
+      ASSERT_TRUE(rot);
+      EXPECT_EQ(rot->lidarModel, "OS1-64");
+      EXPECT_EQ(rot->rowCount, 64);
+      EXPECT_EQ(rot->columnCount, 1024);
+      EXPECT_NEAR(rot->sensorPose.z(), 1.8, 1e-9);
+    }
+    dlo::RawlogScanSource source((dir / "sequence.rawlog").string());
+    dlo::TimedScan scan;
+    ASSERT_TRUE(source.next(scan));
+    EXPECT_EQ(scan.beams, 64);
+    ASSERT_EQ(scan.point_times.size(), scan.points.size());
+
+    // The same sweep in process: every return, column by column, at its column's time, within
+    // the 2 mm range units of the range image.
+    const InProcessSimulation in(dlo::sim::SensorType::OS64, 4, c.start, c.spin);
+    const dlo::sim::Sweep s = in.simulator.simulate(0);
+    const Eigen::Isometry3d mount = in.trajectory.sensorMount();
+    size_t k = 0;
+    for (int fi = 0; fi < s.firings; ++fi) {
+      for (int l = 0; l < s.lasers; ++l) {
+        if (s.range[s.index(fi, l)] <= 0) continue;
+        ASSERT_LT(k, scan.points.size());
+        const Eigen::Vector3d q = mount * in.simulator.sensorPoint(s, fi, l);
+        ASSERT_LT((scan.points[k].cast<double>() - q).norm(), 1.5e-3) << fi << " " << l;
+        ASSERT_NEAR(scan.point_times[k],
+                    (in.simulator.pointTimeNs(s, fi, l) - s.referenceTimeNs) * 1e-9, 1e-6);
+        ++k;
+      }
+    }
+    EXPECT_EQ(k, scan.points.size());
+    EXPECT_FALSE(source.next(scan));
+  }
+}
+
+TEST(DloSimulate, UntimedSweepsStartAtTheGivenAzimuthAndTurnInTheGivenDirection) {
+  struct Case {
+    std::string options;
+    double start;  // degrees counter-clockwise from forward
+    int spin;      // -1 clockwise
+  };
+  for (const Case& c : {Case{"", 0.0, -1}, Case{"--sweep-start 90 --spin ccw", 90.0, 1},
+                        Case{"--sweep-start=-120 --spin=cw", -120.0, -1}}) {
+    SCOPED_TRACE(c.options);
+    const fs::path dir = freshDir("untimed");
+    ASSERT_EQ(runSimulator("--out " + dir.string() +
+                           " --frames 2 --sensor VLP16 --no-point-times " + c.options + " --quiet")
+                  .status,
+              0);
+    // Stored in firing order: the first firing (16 points) at the start azimuth, an eighth of
+    // the sweep later about 45 deg further in the spin direction.
+    mrpt::io::CFileGZInputStream f((dir / "sequence.rawlog").string());
+    auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservationPointCloud>(
+        mrpt::serialization::archiveFrom(f).ReadObject());
+    ASSERT_TRUE(obs);
+    const auto& map = *obs->pointcloud;
+    EXPECT_NEAR(std::remainder(meanAzimuthDeg(map, 0, 16) - c.start, 360.0), 0.0, 0.5);
+    const size_t eighth = map.size() / 8;
+    EXPECT_NEAR(std::remainder(meanAzimuthDeg(map, eighth, eighth + 16) - c.start, 360.0),
+                c.spin * 45.0, 20.0);
+
+    // dlo-slam's sweep timing reads the same direction and start off the order of the points,
+    // as it gets them (vehicle frame), for both sweeps.
+    dlo::RawlogScanSource source((dir / "sequence.rawlog").string());
+    dlo::TimedScan scan;
+    for (int k = 0; k < 2; ++k) {
+      ASSERT_TRUE(source.next(scan));
+      EXPECT_TRUE(scan.point_times.empty());
+      std::vector<float> times;
+      const dlo::SweepTimingEstimate e = dlo::estimateSweepTimes(scan.points, {}, times);
+      EXPECT_TRUE(e.from_order);
+      EXPECT_EQ(e.direction, c.spin);
+      // The second sweep's first packet begins 0.86 ms (3.1 deg) into its revolution, and the
+      // seam is put halfway across the 1.7 deg its packets leave open: 2.3 deg. The points are
+      // seen from the vehicle's origin, 0.3 m behind the sensor: a few degrees of parallax on
+      // the nearest ground when the start is to a side.
+      EXPECT_NEAR(std::remainder(e.start_azimuth_deg - c.start, 360.0), k * c.spin * 2.3, 3.0);
+    }
+  }
+}
+
 TEST(DloSimulate, BadArgumentsAreOneSentenceAndExitStatusOne) {
   const std::string out = "--out " + freshDir("bad").string();
   RunResult r = runSimulator(out + " --sensor OS1");
@@ -200,6 +332,12 @@ TEST(DloSimulate, BadArgumentsAreOneSentenceAndExitStatusOne) {
     r = runSimulator(out + hills);
     EXPECT_EQ(r.status, 1) << hills;
     EXPECT_NE(r.err.find("--hills"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+  for (const std::string bad : {"--spin up", "--spin", "--sweep-start 400", "--sweep-start x"}) {
+    r = runSimulator(out + " " + bad);
+    EXPECT_EQ(r.status, 1) << bad;
+    EXPECT_NE(r.err.find(bad.substr(0, bad.find(' '))), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   }
   r = runSimulator("--out /proc/dlo_simulate_cannot_write --frames 1");

@@ -54,6 +54,28 @@ TEST(LidarModel, Hdl64HasSixtyFourLasersFromPlus2ToMinus24p9) {
   EXPECT_DOUBLE_EQ(m.maxRange, 120.0);
 }
 
+TEST(LidarModel, OusterLikeSensorsSpreadTheirBeamsEvenlyOver45DegreesIn1024Columns) {
+  for (const auto& [type, beams] : {std::pair{SensorType::OS64, 64}, {SensorType::OS128, 128}}) {
+    const LidarModel m = makeLidarModel(type);
+    ASSERT_EQ(m.laserCount(), beams) << m.name;
+    EXPECT_FALSE(m.velodyne()) << m.name;
+    // Beam 0 the highest, then evenly down to -22.5 deg.
+    EXPECT_NEAR(m.elevationDeg.front(), 22.5, 1e-12) << m.name;
+    EXPECT_NEAR(m.elevationDeg.back(), -22.5, 1e-12) << m.name;
+    for (int k = 1; k < beams; ++k) {
+      ASSERT_NEAR(m.elevationDeg[k - 1] - m.elevationDeg[k], 45.0 / (beams - 1), 1e-12) << k;
+    }
+    // 1024 columns per revolution at 10 Hz, every beam of a column at once.
+    EXPECT_EQ(1e9 / m.rotationHz / m.firingPeriodNs, 1024.0) << m.name;
+    EXPECT_NEAR(m.rotationHz, 10.0, 1e-4) << m.name;
+    EXPECT_EQ(m.laserTimeOffsetNs, 0) << m.name;
+    EXPECT_DOUBLE_EQ(m.azimuthResolutionDeg(), 360.0 / 1024.0) << m.name;
+    EXPECT_DOUBLE_EQ(m.minRange, 0.5) << m.name;
+    EXPECT_DOUBLE_EQ(m.maxRange, 120.0) << m.name;
+  }
+  EXPECT_TRUE(makeLidarModel(SensorType::HDL64).velodyne());
+}
+
 TEST(LidarModel, PacketsHoldWholeFiringsAndTenHertzIsAboutOneRevolution) {
   for (SensorType t : {SensorType::VLP16, SensorType::HDL32, SensorType::HDL64}) {
     const LidarModel m = makeLidarModel(t);
@@ -69,7 +91,12 @@ TEST(LidarModel, ParsesSensorNamesAndRejectsOthers) {
   EXPECT_EQ(parseSensorType("HDL64"), SensorType::HDL64);
   EXPECT_EQ(parseSensorType("hdl-32e"), SensorType::HDL32);
   EXPECT_EQ(parseSensorType("VLP-16"), SensorType::VLP16);
-  EXPECT_FALSE(parseSensorType("OS1-64").has_value());
+  EXPECT_EQ(parseSensorType("OS64"), SensorType::OS64);
+  EXPECT_EQ(parseSensorType("os1-64"), SensorType::OS64);
+  EXPECT_EQ(parseSensorType("OS128"), SensorType::OS128);
+  EXPECT_EQ(parseSensorType("OS1-128"), SensorType::OS128);
+  EXPECT_FALSE(parseSensorType("OS1").has_value());
+  EXPECT_FALSE(parseSensorType("OS32").has_value());
   EXPECT_FALSE(parseSensorType("").has_value());
 }
 

@@ -1,6 +1,7 @@
 // Sweeps: determinism, noise, dropouts and motion distortion.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -77,6 +78,75 @@ TEST(SweepSimulator, SweepsAreOneRevolutionOfWholePackets) {
     EXPECT_EQ(s0.firstFiring + s0.firings, s1.firstFiring);
     const double span = static_cast<double>(s0.firings) * sim.model().firingPeriodNs;
     EXPECT_NEAR(span, 1e8, sim.model().packetPeriodNs());
+  }
+}
+
+TEST(SweepSimulator, OusterSweepsAreExactly1024ColumnsFromTheStartOfTheirRevolution) {
+  const auto world = test::worldWith({});
+  const Route route = testRoute();
+  const VehicleTrajectory traj(route, world.terrain());
+  const SweepSimulator sim(world, traj, params(SensorType::OS64, false));
+  for (int64_t frame : {0, 1, 37}) {
+    const Sweep s = sim.simulate(frame);
+    EXPECT_EQ(s.firings, 1024) << frame;
+    EXPECT_EQ(s.lasers, 64) << frame;
+    EXPECT_EQ(s.firstFiring, 1024 * frame) << frame;
+    EXPECT_EQ(s.referenceTimeNs, frame * sim.revolutionNs()) << frame;
+    EXPECT_EQ(sim.azimuthDeg(s.referenceTimeNs), 0.0) << frame;
+  }
+}
+
+TEST(SweepSimulator, OusterSweepOnFlatGroundReturnsEveryDownwardBeamThatReachesIt) {
+  // Flat ground, no noise, the sensor level 1.8 m above it: a beam at elevation e < 0 hits the
+  // ground at range 1.8 / sin(-e), in every column, if that is within the sensor's range.
+  const auto world = test::worldWith({});
+  const Route route = testRoute();
+  const VehicleTrajectory traj(route, world.terrain());
+  for (SensorType type : {SensorType::OS64, SensorType::OS128}) {
+    const SweepSimulator sim(world, traj, params(type, false));
+    const LidarModel& m = sim.model();
+    int reaching = 0;
+    for (double e : m.elevationDeg) {
+      const double range = e < 0.0 ? 1.8 / std::sin(-e * M_PI / 180.0) : 1e9;
+      reaching += range >= m.minRange && range <= m.maxRange;
+    }
+    EXPECT_EQ(reaching, type == SensorType::OS64 ? 31 : 62) << m.name;
+    const Sweep s = sim.simulate(0);
+    const auto returns =
+        std::count_if(s.range.begin(), s.range.end(), [](float r) { return r > 0; });
+    EXPECT_EQ(returns, 1024 * reaching) << m.name;
+  }
+}
+
+TEST(SweepSimulator, SweepStartsAtTheGivenAzimuthAndTurnsInTheSpinDirection) {
+  const auto world = test::worldWith({});
+  const Route route = testRoute();
+  const VehicleTrajectory traj(route, world.terrain());
+  // Azimuth of the beam of laser 0 at firing f, degrees counter-clockwise from +x.
+  const auto azimuth = [](const SweepSimulator& sim, const Sweep& s, int f) {
+    const Vector3d d = sim.beamDirection(0, sim.azimuthDeg(sim.pointTimeNs(s, f, 0)));
+    return std::atan2(d.y(), d.x()) * 180.0 / M_PI;
+  };
+  struct Case {
+    double start;
+    int spin;
+  };
+  for (const Case c : {Case{0.0, -1}, Case{90.0, -1}, Case{90.0, 1}, Case{-135.0, 1}}) {
+    // Sweeps of whole revolutions: their first firing is at the start exactly.
+    SweepSimulatorParams p = params(SensorType::OS64, false);
+    p.model.sweepStartDeg = c.start;
+    p.model.spinDirection = c.spin;
+    const SweepSimulator sim(world, traj, p);
+    const double step = p.model.azimuthResolutionDeg();
+    for (int64_t frame : {0, 3}) {
+      const Sweep s = sim.simulate(frame);
+      SCOPED_TRACE(testing::Message()
+                   << "start " << c.start << " spin " << c.spin << " frame " << frame);
+      EXPECT_NEAR(std::remainder(azimuth(sim, s, 0) - c.start, 360.0), 0.0, 1e-9);
+      EXPECT_NEAR(std::remainder(azimuth(sim, s, 100) - c.start, 360.0), c.spin * 100 * step, 1e-9);
+      EXPECT_NEAR(std::remainder(azimuth(sim, s, s.firings / 3) - c.start, 360.0),
+                  c.spin * (s.firings / 3) * step, 1e-9);
+    }
   }
 }
 

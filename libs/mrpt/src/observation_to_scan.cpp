@@ -5,6 +5,7 @@
 #include <mrpt/obs/CObservationRotatingScan.h>
 #include <mrpt/obs/CObservationVelodyneScan.h>
 #include <mrpt/system/datetime.h>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -66,6 +67,71 @@ void convertVelodyne(mrpt::obs::CObservationVelodyneScan& velo, const ScanSource
   }
   appendFiltered(velo.sensorPose, pc.x.data(), pc.y.data(), pc.z.data(),
                  times.empty() ? nullptr : times.data(), pc.size(), options, scan);
+  scan.beams = static_cast<int>(velo.calibration.laser_corrections.size());
+  if (scan.beams == 0 && pc.laser_id.size() == pc.size() && pc.size() > 0)
+    scan.beams = std::max(0, 1 + *std::max_element(pc.laser_id.begin(), pc.laser_id.end()));
+}
+
+/// Elevation of each row of a rotating scan whose lidarModel names a known layout, in degrees;
+/// empty for any other. MRPT 2.5 stores no elevation table in CObservationRotatingScan, so the
+/// layout must come from the model: "OS1-<rows>", Ouster OS1 with uniform beam spacing, rows
+/// spread evenly over +22.5..-22.5 deg, row 0 the highest.
+std::vector<double> rotatingScanElevationsDeg(const std::string& model, int rows) {
+  if (rows < 2 || model != "OS1-" + std::to_string(rows)) return {};
+  std::vector<double> e(rows);
+  for (int r = 0; r < rows; ++r) e[r] = 22.5 - r * 45.0 / (rows - 1);
+  return e;
+}
+
+/// Points of a rotating scan column by column (the firing order), each column at its azimuth
+/// and time interpolated between the first and last (MRPT's definition of startAzimuth,
+/// azimuthSpan and sweepDuration).
+bool convertRotatingScan(const mrpt::obs::CObservationRotatingScan& rot,
+                         const ScanSourceOptions& options, TimedScan& scan, std::string& reason) {
+  const int rows = rot.rowCount, cols = rot.columnCount;
+  const std::vector<double> elevation = rotatingScanElevationsDeg(rot.lidarModel, rows);
+  if (elevation.empty()) {
+    reason =
+        "MRPT 2.5 stores no per-ring elevation angles in CObservationRotatingScan, and its "
+        "lidarModel is not a layout DLO knows (OS1-<rows>), so its points cannot be recovered; "
+        "convert the source to CObservationVelodyneScan or CObservationPointCloud.";
+    return false;
+  }
+  if (rot.rangeImage.rows() != rows || rot.rangeImage.cols() != cols) {
+    reason = "its range image is not rowCount x columnCount.";
+    return false;
+  }
+  const size_t n = static_cast<size_t>(rows) * cols;
+  std::vector<float> xs, ys, zs, times;
+  xs.reserve(n);
+  ys.reserve(n);
+  zs.reserve(n);
+  const bool timed = rot.sweepDuration > 0.0 && std::isfinite(rot.sweepDuration);
+  if (timed) times.reserve(n);
+  std::vector<double> sinE(rows), cosE(rows);
+  for (int r = 0; r < rows; ++r) {
+    sinE[r] = std::sin(elevation[r] * M_PI / 180.0);
+    cosE[r] = std::cos(elevation[r] * M_PI / 180.0);
+  }
+  const double step = cols > 1 ? 1.0 / (cols - 1) : 0.0;
+  for (int c = 0; c < cols; ++c) {
+    const double azimuth = rot.startAzimuth + rot.azimuthSpan * c * step;
+    const double ca = std::cos(azimuth), sa = std::sin(azimuth);
+    const float t = static_cast<float>(rot.sweepDuration * c * step);
+    for (int r = 0; r < rows; ++r) {
+      const uint16_t units = rot.rangeImage(r, c);
+      if (units == 0) continue;
+      const double range = units * rot.rangeResolution;
+      xs.push_back(static_cast<float>(range * cosE[r] * ca));
+      ys.push_back(static_cast<float>(range * cosE[r] * sa));
+      zs.push_back(static_cast<float>(range * sinE[r]));
+      if (timed) times.push_back(t);
+    }
+  }
+  appendFiltered(rot.sensorPose, xs.data(), ys.data(), zs.data(), timed ? times.data() : nullptr,
+                 xs.size(), options, scan);
+  scan.beams = rows;
+  return true;
 }
 
 /// Makes `flag` a valid bool. MRPT 2.5 deserializes a bool as the raw byte in the file, so a
@@ -126,12 +192,9 @@ ObservationConversion convertPoints(mrpt::obs::CObservation& obs, const ScanSour
     return convert3DRangeScan(*r3d, options, scan, reason) ? ObservationConversion::kConverted
                                                            : ObservationConversion::kUnrecoverable;
   }
-  if (dynamic_cast<mrpt::obs::CObservationRotatingScan*>(&obs)) {
-    reason =
-        "MRPT 2.5 stores no per-ring elevation angles in CObservationRotatingScan (only the range "
-        "image, azimuth span and model name), so its points cannot be recovered; convert the "
-        "source to CObservationVelodyneScan or CObservationPointCloud.";
-    return ObservationConversion::kUnrecoverable;
+  if (auto* rot = dynamic_cast<mrpt::obs::CObservationRotatingScan*>(&obs)) {
+    return convertRotatingScan(*rot, options, scan, reason) ? ObservationConversion::kConverted
+                                                            : ObservationConversion::kUnrecoverable;
   }
   return ObservationConversion::kUnsupported;
 }

@@ -28,6 +28,19 @@ std::vector<double> hdl64Elevation() {
   return e;
 }
 
+// Ouster OS1 (uniform beam spacing): `beams` beams spread evenly over +22.5..-22.5 deg, beam 0
+// the highest, as the sensor numbers them.
+std::vector<double> ouster45Elevation(int beams) {
+  std::vector<double> e(beams);
+  for (int i = 0; i < beams; ++i) e[i] = 22.5 - i * 45.0 / (beams - 1);
+  return e;
+}
+
+// 1024 columns per revolution at 10 Hz: 97.65625 us per column, rounded to whole nanoseconds so
+// that a revolution is exactly 1024 columns (99.999744 ms, 10.0000256 Hz).
+constexpr int kOusterColumns = 1024;
+constexpr int64_t kOusterColumnNs = 97656;
+
 }  // namespace
 
 LidarModel makeLidarModel(SensorType type) {
@@ -65,6 +78,18 @@ LidarModel makeLidarModel(SensorType type) {
       m.minRange = 0.9;
       m.maxRange = 120.0;
       break;
+    case SensorType::OS64:
+    case SensorType::OS128:
+      // Every beam of a column fires at once (no stagger); 16 columns per lidar packet.
+      m.name = type == SensorType::OS64 ? "OS64" : "OS128";
+      m.elevationDeg = ouster45Elevation(type == SensorType::OS64 ? 64 : 128);
+      m.firingPeriodNs = kOusterColumnNs;
+      m.laserTimeOffsetNs = 0;
+      m.firingsPerPacket = 16;
+      m.rotationHz = 1e9 / static_cast<double>(kOusterColumns * kOusterColumnNs);
+      m.minRange = 0.5;
+      m.maxRange = 120.0;
+      break;
   }
   return m;
 }
@@ -77,6 +102,8 @@ std::optional<SensorType> parseSensorType(const std::string& text) {
   if (key == "VLP16") return SensorType::VLP16;
   if (key == "HDL32" || key == "HDL32E") return SensorType::HDL32;
   if (key == "HDL64" || key == "HDL64E") return SensorType::HDL64;
+  if (key == "OS64" || key == "OS164") return SensorType::OS64;
+  if (key == "OS128" || key == "OS1128") return SensorType::OS128;
   return std::nullopt;
 }
 

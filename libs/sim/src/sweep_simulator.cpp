@@ -66,7 +66,14 @@ int64_t SweepSimulator::pointTimeNs(const Sweep& sweep, int firing, int laser) c
 }
 
 double SweepSimulator::azimuthDeg(int64_t timeNs) const {
-  return 360.0 * static_cast<double>(timeNs % revolutionNs_) / static_cast<double>(revolutionNs_);
+  const LidarModel& m = params_.model;
+  // Degrees turned since the sweep's start, then clockwise from +x. The default (start 0,
+  // clockwise) is the turned angle itself, to the bit: -0.0 + x == x and fmod is exact.
+  const double turned =
+      360.0 * static_cast<double>(timeNs % revolutionNs_) / static_cast<double>(revolutionNs_);
+  const double clockwise =
+      std::fmod(-m.sweepStartDeg + (m.spinDirection < 0 ? turned : -turned), 360.0);
+  return clockwise < 0.0 ? clockwise + 360.0 : clockwise;
 }
 
 Eigen::Vector3d SweepSimulator::beamDirection(int laser, double azimuthDeg) const {

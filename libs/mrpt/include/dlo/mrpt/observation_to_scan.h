@@ -20,13 +20,17 @@ enum class ObservationConversion {
 };
 
 /// Converts `obs` into `scan` (all fields but entry_index). Supported:
-/// - CObservationVelodyneScan: generatePointCloud() with per-point timestamps;
+/// - CObservationVelodyneScan: its stored point cloud, or generatePointCloud() with per-point
+///   timestamps; `beams` from its calibration table (or its laser ids);
+/// - CObservationRotatingScan whose lidarModel names a layout DLO knows ("OS1-<rows>": Ouster
+///   OS1, rows evenly over +22.5..-22.5 deg, as dlo-simulate writes its OS64 / OS128 sensors):
+///   its range image column by column, each column at its azimuth and time interpolated from
+///   startAzimuth, azimuthSpan and sweepDuration; `beams` = rowCount. Any other lidarModel is
+///   kUnrecoverable: MRPT 2.5 stores no elevation angle per ring, so points cannot be rebuilt;
 /// - CObservationPointCloud: its point map (per-point times: see pointCloudObservationTimes());
 /// - CObservation3DRangeScan: its 3D points, or its range image unprojected with the camera
 ///   intrinsics when it has no 3D points.
-/// CObservationRotatingScan is kUnrecoverable: MRPT 2.5 stores only its range image, azimuth span
-/// and lidar model, not the elevation angle of each ring, so points cannot be rebuilt from it.
-/// So is an observation MRPT throws on while decoding it (corrupt camera parameters or
+/// An observation MRPT throws on while decoding it (corrupt camera parameters or
 /// calibration, a missing externally stored file): the exception does not escape.
 /// Non-const because lazily-loaded observations must be loaded and range images unprojected.
 /// \param reason set to one sentence when the result is kUnrecoverable.

@@ -35,6 +35,10 @@ struct TimedScan {
   /// Pose of the sensor in the vehicle frame (the observation's sensorPose; identity where the
   /// input has none): where the points' rings are centred (dlo::estimateRings).
   Eigen::Isometry3d sensor_pose = Eigen::Isometry3d::Identity();
+  /// Beams (rings) of the sensor where the observation says: the calibration table or laser ids
+  /// of a CObservationVelodyneScan, the rows of a CObservationRotatingScan; 0 = unknown (point
+  /// clouds, 3D range scans, KITTI files).
+  int beams = 0;
   /// Points dropped because a coordinate was NaN or infinite.
   size_t dropped_non_finite = 0;
   /// Points dropped by ScanSourceOptions::min_range / max_range.

@@ -60,7 +60,8 @@ class SweepSimulator {
 
   /// Time of laser `laser` of firing `firing` of the sweep [ns since the sequence start].
   int64_t pointTimeNs(const Sweep& sweep, int firing, int laser) const;
-  /// Head azimuth at a time [deg in [0, 360)], clockwise from the sensor's +x.
+  /// Head azimuth at a time [deg in [0, 360)], clockwise from the sensor's +x: each revolution
+  /// starts at model().sweepStartDeg and turns in model().spinDirection.
   double azimuthDeg(int64_t timeNs) const;
   /// Unit vector of a laser at a head azimuth, in the sensor frame.
   Eigen::Vector3d beamDirection(int laser, double azimuthDeg) const;
