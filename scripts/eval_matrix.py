@@ -29,12 +29,26 @@ Conditions:
 Sensors (--sensors, passed to dlo-simulate --sensor): HDL64, HDL32, VLP16, OS64 and OS128
 (Ouster-like, 64 and 128 beams over +22.5..-22.5 deg, 1024 columns).
 
+Peers: --peer NAME=COMMAND (repeatable) runs an external odometry program on the same drives.
+Each drive is written once as a KITTI folder (dlo-rawlog2kitti, cached in OUT/data/NAME/kitti,
+with the ground truth as its poses.txt), COMMAND runs through /bin/sh with {kitti} replaced by
+that folder and {out} by the poses file it must write (KITTI: one 3x4 row per scan; or TUM), and
+dlo-eval evaluates the poses with the metrics dlo-slam's report uses (KITTI drift, SE(3) Umeyama
+ATE, poses matched within 5 ms). The table then has a method column and the peer's rows beside
+dlo-slam's; a peer's ms/scan is the wall time of its whole process / scans (file reading and
+start-up included), and a peer that fails counts as a failed drive. A peer such as KISS-ICP is
+built by the user from its own source; nothing of it is part of this project.
+
 Example:
   python3 scripts/eval_matrix.py --out /tmp/matrix --sensors HDL64 VLP16 --seeds 1 2 3
+  python3 scripts/eval_matrix.py --out /tmp/matrix --peer "KISS-ICP=/path/to/driver {kitti} {out}"
 """
 import argparse
 import json
+import math
 import os
+import re
+import shlex
 import statistics
 import subprocess
 import sys
@@ -74,6 +88,94 @@ def run(cmd, log):
         sys.exit(f"eval_matrix: '{' '.join(cmd)}' failed with exit {r.returncode}; see {log}")
 
 
+def parse_peer(text):
+    """NAME=COMMAND of --peer, checked as dlo-bench checks it."""
+    name, sep, command = text.partition("=")
+    if not sep or not name or not command:
+        raise argparse.ArgumentTypeError(f"--peer expects NAME=COMMAND, got '{text}'")
+    if not re.fullmatch(r"[A-Za-z0-9._+-]+", name):
+        raise argparse.ArgumentTypeError(
+            f"--peer name '{name}' may hold only letters, digits and . _ + - (it names files)")
+    if "{out}" not in command:
+        raise argparse.ArgumentTypeError(
+            f"--peer {name}: COMMAND must contain {{out}}, the poses file it writes")
+    return name, command
+
+
+def kitti_folder(rawlog2kitti, data):
+    """The drive in data/ as a KITTI folder with its ground truth (written once, then cached)."""
+    kitti = os.path.join(data, "kitti")
+    if not os.path.exists(os.path.join(kitti, "times.txt")):
+        run([rawlog2kitti, os.path.join(data, "sequence.rawlog"), kitti, "--gt",
+             os.path.join(data, "groundtruth.tum"), "--quiet"],
+            os.path.join(data, "rawlog2kitti.log"))
+    return kitti
+
+
+def count_poses(path):
+    with open(path) as f:
+        return sum(1 for line in f if line.strip() and not line.lstrip().startswith("#"))
+
+
+def run_peer(peer, kitti, res, evaluate):
+    """Runs one peer on one drive's KITTI folder and evaluates its poses with dlo-eval.
+
+    Returns a row like dlo-slam's (drift, deg100, ate, ms), or one with "error" set."""
+    name, command = peer
+    folder = os.path.join(res, "peer-" + name)
+    os.makedirs(folder, exist_ok=True)
+    poses = os.path.join(folder, "poses.txt")
+    if os.path.exists(poses):
+        os.remove(poses)
+    line = command.replace("{kitti}", shlex.quote(kitti)).replace("{out}", shlex.quote(poses))
+    scans = count_poses(os.path.join(kitti, "times.txt"))
+    start = time.monotonic()
+    with open(os.path.join(folder, "peer.log"), "w") as log:
+        code = subprocess.run(line, shell=True, stdout=log, stderr=subprocess.STDOUT).returncode
+    wall = time.monotonic() - start
+    row = {"ms": 1000.0 * wall / scans, "drift": math.nan, "deg100": math.nan, "ate": math.nan}
+    if code != 0:
+        row["error"] = f"exited with status {code} (see {folder}/peer.log)"
+    elif not os.path.exists(poses):
+        row["error"] = f"wrote no poses to {poses}"
+    elif count_poses(poses) != scans:
+        row["error"] = f"wrote {count_poses(poses)} poses to {poses} for {scans} scans"
+    else:
+        ev = os.path.join(folder, "eval")
+        r = subprocess.run([evaluate, "--gt", os.path.join(kitti, "poses.txt"), "--gt-times",
+                            os.path.join(kitti, "times.txt"), "--est", poses, "--label", name,
+                            "--max-dt", "0.005", "--out", ev],
+                           stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        if r.returncode != 0:
+            row["error"] = f"its poses cannot be evaluated: {r.stderr.strip()}"
+        else:
+            with open(os.path.join(ev, "metrics.json")) as f:
+                est = json.load(f)["estimates"][0]
+            row.update(drift=est["kitti"]["translation_percent"],
+                       deg100=est["kitti"]["rotation_deg_per_100m"], ate=est["ate"]["rmse"])
+    if "error" in row:
+        print(f"eval_matrix: peer {name} failed on {res}: {row['error']}.", file=sys.stderr)
+    return row
+
+
+def table_row(label, rs, fail_drift):
+    """One table line (condition, sensor[, method] already in `label`) for the drives `rs`;
+    drives without a drift (a failed peer) count as failed and are left out of the figures."""
+    ok = [r for r in rs if not math.isnan(r["drift"])]
+    failed = sum(math.isnan(r["drift"]) or r["drift"] > fail_drift for r in rs)
+    ran = [r for r in rs if "error" not in r]  # a peer that failed has no meaningful time
+
+    def med(key, rows=ok):
+        vals = [r[key] for r in rows if key in r]
+        return f"{statistics.median(vals):.2f}" if vals else "n/a"
+
+    def worst(key):
+        return f"{max(r[key] for r in ok):.2f}" if ok else "n/a"
+
+    return (f"| {label} | {med('drift')} | {worst('drift')} | {med('deg100')} | {med('ate')} | "
+            f"{worst('ate')} | {failed} of {len(rs)} | {med('ms', ran)} | {med('p95')} |")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -93,15 +195,25 @@ def main():
     ap.add_argument("--tag", default="run", help="name of this configuration's result folder")
     ap.add_argument("--fail-drift", type=float, default=2.0,
                     help="drift (%%) above which a drive counts as failed (default 2)")
+    ap.add_argument("--peer", action="append", default=[], type=parse_peer,
+                    metavar="NAME=COMMAND",
+                    help="external odometry run on every drive's KITTI folder; COMMAND's {kitti} "
+                         "and {out} are replaced by the folder and the poses file it writes "
+                         "(repeatable; see above)")
     a = ap.parse_args()
+    if len({name for name, _ in a.peer}) != len(a.peer) or "dlo-slam" in {n for n, _ in a.peer}:
+        ap.error("--peer names must differ from each other and from 'dlo-slam'")
 
     simulate = os.path.join(a.build, "apps/dlo-simulate/dlo-simulate")
     slam = os.path.join(a.build, "apps/dlo-slam/dlo-slam")
-    for exe in (slam,):
+    rawlog2kitti = os.path.join(a.build, "apps/dlo-rawlog2kitti/dlo-rawlog2kitti")
+    evaluate = os.path.join(a.build, "apps/dlo-eval/dlo-eval")
+    for exe in (slam,) + ((rawlog2kitti, evaluate) if a.peer else ()):
         if not os.access(exe, os.X_OK):
             sys.exit(f"eval_matrix: {exe} not found; build first (bash scripts/build.sh)")
 
     rows = {}
+    peer_rows = {}
     total = len(a.sensors) * len(a.seeds) * len(a.conditions)
     done = 0
     start = time.time()
@@ -142,30 +254,43 @@ def main():
                 print(f"eval_matrix: {done}/{total} {name}: drift {r['drift']:.2f} %, "
                       f"ATE {r['ate']:.2f} m, {r['ms']:.2f} ms/scan "
                       f"({time.time() - start:.0f} s)", file=sys.stderr)
+                for peer in a.peer:
+                    p = run_peer(peer, kitti_folder(rawlog2kitti, data), res, evaluate)
+                    p["seed"] = seed
+                    peer_rows.setdefault((cond, sensor, peer[0]), []).append(p)
+                    print(f"eval_matrix: {peer[0]} on {name}: drift {p['drift']:.2f} %, "
+                          f"ATE {p['ate']:.2f} m, {p['ms']:.2f} ms/scan", file=sys.stderr)
 
+    method = " method |" if a.peer else ""
     lines = [
         f"Configuration '{a.tag}' ({' '.join(a.set) or 'defaults'}), {a.frames} sweeps per drive, "
         f"seeds {' '.join(map(str, a.seeds))}; drift: KITTI metric of the odometry (before loop "
         f"closure); failed: drift above {a.fail_drift} %.",
         "",
-        "| condition | sensor | drift median % | drift worst % | deg/100 m median | "
+        f"| condition | sensor |{method} drift median % | drift worst % | deg/100 m median | "
         "ATE median m | ATE worst m | failed | ms/scan median | p95 median |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "|---|---|" + ("---|" if a.peer else "") + "---|---|---|---|---|---|---|---|",
     ]
     for (cond, sensor), rs in rows.items():
-        d = [r["drift"] for r in rs]
-        lines.append(
-            f"| {cond} | {sensor} | {statistics.median(d):.2f} | {max(d):.2f} | "
-            f"{statistics.median(r['deg100'] for r in rs):.2f} | "
-            f"{statistics.median(r['ate'] for r in rs):.2f} | {max(r['ate'] for r in rs):.2f} | "
-            f"{sum(x > a.fail_drift for x in d)} of {len(d)} | "
-            f"{statistics.median(r['ms'] for r in rs):.2f} | "
-            f"{statistics.median(r['p95'] for r in rs):.2f} |")
+        lines.append(table_row(f"{cond} | {sensor}" + (" | dlo-slam" if a.peer else ""), rs,
+                               a.fail_drift))
+        for name, _ in a.peer:
+            lines.append(table_row(f"{cond} | {sensor} | {name}",
+                                   peer_rows[(cond, sensor, name)], a.fail_drift))
+    if a.peer:
+        lines.append("")
+        lines.append("Peers (external programs, run through /bin/sh on each drive's KITTI folder; "
+                     "ms/scan: wall time of the whole process / scans, including its start-up "
+                     "and file reading; a failed run counts as a failed drive):")
+        for name, command in a.peer:
+            lines.append(f"* {name}: `{command}`")
     table = "\n".join(lines) + "\n"
     with open(os.path.join(a.out, a.tag, "table.md"), "w") as f:
         f.write(table)
     with open(os.path.join(a.out, a.tag, "results.json"), "w") as f:
-        json.dump({f"{c}/{s}": rs for (c, s), rs in rows.items()}, f, indent=1)
+        results = {f"{c}/{s}": rs for (c, s), rs in rows.items()}
+        results.update({f"{c}/{s}/{n}": rs for (c, s, n), rs in peer_rows.items()})
+        json.dump(results, f, indent=1)
     print(table)
 
 

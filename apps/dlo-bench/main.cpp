@@ -1,8 +1,10 @@
-// dlo-bench: DLO next to the classic registrators on the same scans, with the same initial
-// guess: timing, accuracy against ground truth and peak memory per method. The methods and
-// their evaluation live in libs/bench; this file parses the command line and writes the table.
+// dlo-bench: DLO next to the classic registrators and external odometry programs (peers) on the
+// same scans, with the same initial guess: timing, accuracy against ground truth and peak memory
+// per method. The methods, peers and their evaluation live in libs/bench; this file parses the
+// command line and writes the table.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -14,6 +16,7 @@
 #include "dlo/bench/bench_table.h"
 #include "dlo/bench/method_registry.h"
 #include "dlo/bench/method_run.h"
+#include "dlo/bench/peer_run.h"
 #include "dlo/eval/evaluation_figures.h"
 #include "dlo/export/atomic_file.h"
 #include "dlo/export/png_file.h"
@@ -21,6 +24,8 @@
 #include "dlo/mrpt/app_main.h"
 #include "dlo/mrpt/command_line.h"
 #include "dlo/mrpt/input_error.h"
+#include "dlo/mrpt/kitti_conversion.h"
+#include "dlo/mrpt/kitti_sequence.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 
 namespace {
@@ -29,9 +34,9 @@ using dlo::UsageError;
 namespace fs = std::filesystem;
 
 constexpr const char* kUsage =
-    R"(Usage: dlo-bench --input IN.rawlog --gt GT.tum --out DIR [--methods M1,M2,...]
-                 [--max-frames N] [--max-frames-slow N] [--min-range M] [--max-range M]
-                 [--repeat N] [--quiet] [--help]
+    R"(Usage: dlo-bench --input IN.rawlog [--gt GT.tum] --out DIR [--methods M1,M2,...]
+                 [--peer NAME=COMMAND ...] [--max-frames N] [--max-frames-slow N]
+                 [--min-range M] [--max-range M] [--repeat N] [--quiet] [--help]
 
 Runs every method on the same scans of IN, each in its own forked process (so that its peak
 memory is its own), and writes into DIR (created if needed), each file atomically:
@@ -41,7 +46,9 @@ memory is its own), and writes into DIR (created if needed), each file atomicall
                            drift %, peak memory (MB)
   <method>.tum             each method's trajectory, relative to its first scan
   trajectories.png         top view of the ground truth and every method, aligned, with legend
-The table is also printed.
+  <peer>.poses, <peer>.log each peer's poses as it wrote them, and its stdout and stderr
+The table is also printed. Without --gt the accuracy columns are n/a and the notes give where
+each trajectory ends.
 
 Methods (default: all of them):
   dlo-paper   the paper's frame-to-frame DLO (odometry.reference = 0, no loop closure)
@@ -51,8 +58,22 @@ Methods (default: all of them):
 Frame-to-frame registrators start from a constant-velocity guess: for scan k,
 pose_{k-1} * (pose_{k-2}^-1 pose_{k-1}); DLO's odometry predicts with constant velocity too.
 
+Peers: --peer NAME=COMMAND (repeatable) adds an external odometry program. dlo-bench writes the
+scans the methods get (vehicle frame, range limits and --max-frames applied) as a KITTI folder
+(see dlo-rawlog2kitti; no poses.txt), runs COMMAND through /bin/sh with {kitti} replaced by that
+folder and {out} by the file the peer must write: KITTI poses (one row-major 3x4 pose per scan,
+in scan order) or TUM lines (stamped with times.txt's times), detected from the first line. The
+peer's row is evaluated as the methods' are; its ms/frame is the wall time of the whole process
+divided by the scans, so it includes the peer's start-up and its reading of the files. A peer
+that fails or writes a wrong number of poses gets a failed row; the others are kept. The KITTI
+folder is removed at the end. Example, with a KISS-ICP driver that you built from its source:
+  dlo-bench --input drive.rawlog --gt gt.tum --out bench \
+            --peer "KISS-ICP=/path/to/kiss_driver {kitti} {out}"
+
 Options:
   --methods LIST       comma-separated method names.
+  --peer NAME=COMMAND  an external odometry program (see Peers above); repeatable. NAME holds
+                       letters, digits and . _ + -; COMMAND must contain {out}.
   --max-frames N       at most N scans per method.
   --max-frames-slow N  at most N scans for the slow methods (icp, ndt, gicp); default 100.
   --min-range M        drop points closer than M metres to the sensor (default 2.0).
@@ -64,13 +85,14 @@ Options:
   --quiet              no progress.
   --help               print this text.
 
-Exit status: 0 on success, 1 for a bad input file or a method that failed (the table is still
-written), 2 for a command-line error; errors are one line on stderr starting with "dlo-bench: ".
+Exit status: 0 on success, 1 for a bad input file or a method or peer that failed (the table is
+still written), 2 for a command-line error; errors are one line on stderr starting with "dlo-bench: ".
 )";
 
 struct Arguments {
   std::string input, gt, out;
   std::vector<const dlo::bench::MethodSpec*> methods;
+  std::vector<dlo::bench::PeerSpec> peers;
   long max_frames = -1;
   long max_frames_slow = 100;
   long repeat = 1;
@@ -109,10 +131,11 @@ std::vector<const dlo::bench::MethodSpec*> parseMethods(const std::string& list)
 }
 
 Arguments parseArguments(int argc, char** argv) {
-  const dlo::CommandLine cl(argc, argv,
-                            {"--input", "--gt", "--out", "--methods", "--max-frames",
-                             "--max-frames-slow", "--min-range", "--max-range", "--repeat"},
-                            {"--quiet"});
+  const dlo::CommandLine cl(
+      argc, argv,
+      {"--input", "--gt", "--out", "--methods", "--max-frames", "--max-frames-slow", "--min-range",
+       "--max-range", "--repeat", "--peer"},
+      {"--quiet"});
   Arguments a;
   a.help = cl.help();
   if (a.help) return a;
@@ -124,7 +147,7 @@ Arguments parseArguments(int argc, char** argv) {
   a.min_range = cl.number("--min-range", a.min_range);
   a.max_range = cl.number("--max-range", a.max_range);
   a.input = cl.required("--input");
-  a.gt = cl.required("--gt");
+  a.gt = cl.text("--gt");
   a.out = cl.required("--out");
   if (!(a.min_range >= 0.0 && a.max_range > a.min_range)) {
     throw UsageError{"--min-range and --max-range must satisfy 0 <= min < max."};
@@ -134,6 +157,19 @@ Arguments parseArguments(int argc, char** argv) {
     for (const auto& m : dlo::bench::availableMethods()) a.methods.push_back(&m);
   } else {
     a.methods = parseMethods(methods);
+  }
+  for (const std::string& text : cl.values("--peer")) {
+    try {
+      a.peers.push_back(dlo::bench::parsePeerSpec(text));
+    } catch (const std::invalid_argument& e) {
+      throw UsageError{e.what()};
+    }
+    const std::string& name = a.peers.back().name;
+    const bool twice = std::count_if(a.peers.begin(), a.peers.end(),
+                                     [&](const auto& p) { return p.name == name; }) > 1;
+    if (twice || dlo::bench::findMethod(name)) {
+      throw UsageError{"--peer name '" + name + "' is used twice or is a method's name."};
+    }
   }
   return a;
 }
@@ -189,9 +225,9 @@ bool slowLimitCut(const Arguments& args, const std::vector<dlo::bench::MethodRun
          });
 }
 
-/// The notes under the table; `slow_cut` is slowLimitCut().
+/// The notes under the table; `slow_cut` is slowLimitCut(), `have_gt` whether --gt was given.
 std::string notes(const Arguments& args, const std::vector<dlo::bench::MethodRow>& rows,
-                  const std::vector<dlo::bench::MethodRun>& runs, bool slow_cut) {
+                  const std::vector<dlo::bench::MethodRun>& runs, bool slow_cut, bool have_gt) {
   double baseline = 0.0;
   for (const auto& run : runs) baseline = std::max(baseline, run.baseline_memory_mb);
   std::ostringstream o;
@@ -199,15 +235,37 @@ std::string notes(const Arguments& args, const std::vector<dlo::bench::MethodRow
        "frame to pose, including its own deskewing, filtering and map upkeep); reading and "
        "decoding the rawlog are not timed. frames/s = frames / total processing time. Methods "
        "run one after another, single-threaded.\n";
-  o << "* ATE: RMSE of positions after SE(3) Umeyama alignment to the ground truth "
-       "(dlo::metrics), poses matched by timestamp within 5 ms. drift: KITTI translational drift "
-       "averaged over segments of";
-  for (const auto& r : rows) o << " " << r.method << ": " << r.drift_lengths << ";";
-  o << " segment lengths are fractions of the path when it is shorter than 100 m.\n";
+  for (const dlo::bench::PeerSpec& peer : args.peers) {
+    o << "* " << peer.name << " (peer): `" << peer.command
+      << "` on the same scans written as a KITTI folder; ms/frame is the wall time of the whole "
+         "process / scans (including its start-up and reading of the files), threads as the "
+         "program uses them.\n";
+  }
+  if (have_gt) {
+    o << "* ATE: RMSE of positions after SE(3) Umeyama alignment to the ground truth "
+         "(dlo::metrics), poses matched by timestamp within 5 ms. drift: KITTI translational "
+         "drift averaged over segments of";
+    for (const auto& r : rows) o << " " << r.method << ": " << r.drift_lengths << ";";
+    o << " segment lengths are fractions of the path when it is shorter than 100 m.\n";
+  } else {
+    o << "* No ground truth (--gt): accuracy not evaluated. Where each trajectory ends, in its "
+         "first scan's frame (x forward):";
+    for (const auto& run : runs) {
+      if (run.trajectory.empty()) continue;
+      const Eigen::Vector3d end = run.trajectory.poses.back().translation();
+      char text[160];
+      std::snprintf(text, sizeof text, " %s (%.2f, %.2f, %.2f) m;", run.method.c_str(), end.x(),
+                    end.y(), end.z());
+      o << text;
+    }
+    o << "\n";
+  }
   o << "* peak memory: peak resident set (VmHWM) of a child process forked for the method alone "
        "(high-water mark reset after the fork), which reads the rawlog itself; it includes the "
        "program's baseline of about "
-    << static_cast<int>(std::lround(baseline)) << " MB (libraries, scan reader).\n";
+    << static_cast<int>(std::lround(baseline)) << " MB (libraries, scan reader)";
+  if (!args.peers.empty()) o << "; not measured for the peers";
+  o << ".\n";
   o << "* Initial guess: the frame-to-frame registrators (icp, ndt, gicp) start scan k at "
        "pose_{k-1} * (pose_{k-2}^-1 pose_{k-1}) and get the scans as measured (not deskewed); "
        "dlo-paper and dlo use LidarOdometry's own constant-velocity prediction (planar, over the "
@@ -248,7 +306,7 @@ std::string notes(const Arguments& args, const std::vector<dlo::bench::MethodRow
 int run(const Arguments& args, const std::string& command) {
   dlo::metrics::Trajectory ground_truth;
   try {
-    ground_truth = dlo::metrics::readTrajectory(args.gt);
+    if (!args.gt.empty()) ground_truth = dlo::metrics::readTrajectory(args.gt);
   } catch (const std::exception& e) {
     throw dlo::InputError("cannot read ground truth '" + args.gt + "': " + e.what());
   }
@@ -265,6 +323,16 @@ int run(const Arguments& args, const std::string& command) {
     throw dlo::InputError("cannot create output folder '" + args.out + "'.");
   }
 
+  // The peers' input: the scans the methods get, written once for all peers and rounds.
+  const fs::path kitti = fs::path(args.out) / "peer-scans";
+  std::vector<double> scan_times;
+  if (!args.peers.empty()) {
+    if (!args.quiet) std::cerr << "dlo-bench: writing the scans for the peers to " << kitti << "\n";
+    fs::remove_all(kitti, ec);
+    dlo::convertRawlogToKitti(args.input, kitti.string(), "", options, args.max_frames);
+    scan_times = dlo::readKittiSequence(kitti.string()).times;
+  }
+
   std::vector<dlo::bench::MethodRun> runs;
   std::vector<dlo::bench::MethodRow> rows;
   std::vector<std::pair<std::string, dlo::metrics::Trajectory>> trajectories;
@@ -272,6 +340,7 @@ int run(const Arguments& args, const std::string& command) {
   // Round after round, every method once per round: each is timed over the whole benchmark's
   // span of the machine's load, not in a window of its own.
   std::vector<std::vector<dlo::bench::MethodRun>> passes(args.methods.size());
+  std::vector<std::vector<dlo::bench::MethodRun>> peer_passes(args.peers.size());
   // Scans per method (negative: all): --max-frames, and --max-frames-slow for the slow ones.
   std::vector<long> limits;
   for (const dlo::bench::MethodSpec* spec : args.methods) {
@@ -291,7 +360,15 @@ int run(const Arguments& args, const std::string& command) {
       passes[m].push_back(
           dlo::bench::runMethodIsolated(*spec, args.input, options, limits[m], !args.quiet));
     }
+    for (size_t p = 0; p < args.peers.size(); ++p) {
+      const dlo::bench::PeerSpec& peer = args.peers[p];
+      if (!args.quiet) std::cerr << "dlo-bench: " << peer.name << " (peer)\n";
+      const fs::path out = fs::path(args.out) / peer.name;
+      peer_passes[p].push_back(dlo::bench::runPeer(peer, kitti.string(), scan_times,
+                                                   out.string() + ".poses", out.string() + ".log"));
+    }
   }
+  if (!args.peers.empty()) fs::remove_all(kitti, ec);
   for (size_t m = 0; m < args.methods.size(); ++m) {
     const dlo::bench::MethodSpec* spec = args.methods[m];
     runs.push_back(dlo::bench::combinePasses(passes[m]));
@@ -309,17 +386,33 @@ int run(const Arguments& args, const std::string& command) {
       trajectories.emplace_back(spec->name, r.trajectory);
     }
   }
+  for (size_t p = 0; p < args.peers.size(); ++p) {
+    const dlo::bench::PeerSpec& peer = args.peers[p];
+    runs.push_back(dlo::bench::combinePasses(peer_passes[p]));
+    const dlo::bench::MethodRun& r = runs.back();
+    if (!r.error.empty()) {
+      failed = true;
+      std::cerr << "dlo-bench: peer " << peer.name << " failed: " << r.error << "\n";
+    }
+    rows.push_back(dlo::bench::evaluateRun(r, "external program (ms/frame: whole process / scans)",
+                                           ground_truth));
+    if (!r.trajectory.empty()) {
+      dlo::metrics::writeTumTrajectory((fs::path(args.out) / (peer.name + ".tum")).string(),
+                                       r.trajectory);
+      trajectories.emplace_back(peer.name, r.trajectory);
+    }
+  }
 
   // The slow methods see only the start of the sequence: the same span for the others, so that
   // accuracy is compared on equal ground.
   const bool slow_cut = slowLimitCut(args, runs);
   std::ostringstream md;
   md << "Command: `" << command << "`  \nMachine: " << machine() << "\n\n"
-     << dlo::bench::tableMarkdown(rows) << notes(args, rows, runs, slow_cut);
+     << dlo::bench::tableMarkdown(rows) << notes(args, rows, runs, slow_cut, !ground_truth.empty());
   std::vector<dlo::bench::MethodRow> first;
   for (size_t i = 0; i < runs.size() && slow_cut; ++i) {
     if (runs[i].ms.size() > static_cast<size_t>(args.max_frames_slow)) {
-      first.push_back(dlo::bench::evaluateRun(runs[i], args.methods[i]->preprocessing, ground_truth,
+      first.push_back(dlo::bench::evaluateRun(runs[i], rows[i].preprocessing, ground_truth,
                                               args.max_frames_slow));
     }
   }
@@ -331,8 +424,10 @@ int run(const Arguments& args, const std::string& command) {
   }
   writeText(fs::path(args.out) / "table.md", md.str());
   writeText(fs::path(args.out) / "table.csv", dlo::bench::tableCsv(rows));
-  dlo::writePng(trajectoriesFigure(ground_truth, trajectories),
-                (fs::path(args.out) / "trajectories.png").string());
+  if (!ground_truth.empty()) {
+    dlo::writePng(trajectoriesFigure(ground_truth, trajectories),
+                  (fs::path(args.out) / "trajectories.png").string());
+  }
   std::cout << md.str();
   return failed ? 1 : 0;
 }

@@ -1,5 +1,5 @@
-// dlo-bench end to end: the built binary on a short simulated HDL-64 drive, every method, and
-// the command-line and input errors.
+// dlo-bench end to end: the built binary on a short simulated HDL-64 drive, every method, fake
+// external peers (shell one-liners), and the command-line and input errors.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -202,6 +202,97 @@ TEST_F(DloBenchApp, RepeatTimesEveryMethodInRoundsAndChecksThePassesAgree) {
   EXPECT_NE(readFile(stderrPath()).find("--repeat expects a whole number of runs >= 1, got '0'"),
             std::string::npos)
       << readFile(stderrPath());
+}
+
+/// CSV rows of `table` by method name.
+std::map<std::string, std::vector<std::string>> csvRows(const std::string& table) {
+  std::istringstream csv(table);
+  std::string line;
+  std::getline(csv, line);
+  std::map<std::string, std::vector<std::string>> rows;
+  while (std::getline(csv, line)) {
+    const std::vector<std::string> cells = csvCells(line);
+    rows[cells[0]] = cells;
+  }
+  return rows;
+}
+
+TEST_F(DloBenchApp, PeersRunOnTheSameScansAndFailingPeersKeepTheOtherRows) {
+  const fs::path dir = *dir_ / "peers";
+  const std::string gt = (*dir_ / "groundtruth.tum").string();
+  // "truth" writes the ground truth of the 6 scans (TUM), "still" identity poses (KITTI, one
+  // per line of {kitti}/times.txt), "broken" exits with status 3, "short" writes every pose of
+  // the 30-scan drive for the 6 scans it was given.
+  const std::string peers =
+      " --peer " + test::shellQuote("truth=grep -v '^#' " + gt + " | head -n 6 > {out}") +
+      " --peer " +
+      test::shellQuote(
+          "still=awk '{print \"1 0 0 0 0 1 0 0 0 0 1 0\"}' {kitti}/times.txt > {out}") +
+      " --peer " + test::shellQuote("broken=echo no luck; exit 3; cat {out}") + " --peer " +
+      test::shellQuote("short=cp " + gt + " {out}");
+  EXPECT_EQ(bench("--out " + dir.string() + " --methods dlo-paper --max-frames 6" + peers), 1)
+      << "a failed peer is a failed run";
+  const std::string err = readFile(stderrPath());
+  EXPECT_NE(err.find("dlo-bench: peer broken failed: the command exited with status 3"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("dlo-bench: peer short failed: it wrote 30 poses"), std::string::npos) << err;
+  EXPECT_NE(err.find("for 6 scans; expected one per scan."), std::string::npos) << err;
+  EXPECT_NE(readFile(dir / "broken.log").find("no luck"), std::string::npos);
+
+  auto rows = csvRows(readFile(dir / "table.csv"));
+  ASSERT_EQ(rows.size(), 5u) << readFile(dir / "table.csv");
+  for (const std::string name : {"dlo-paper", "truth", "still"}) {
+    SCOPED_TRACE(name);
+    ASSERT_TRUE(rows.count(name));
+    EXPECT_EQ(rows[name][2], "6");
+    EXPECT_GT(std::stod(rows[name][3]), 0.0);
+    EXPECT_EQ(metrics::readTumTrajectory((dir / (name + ".tum")).string()).size(), 6u);
+  }
+  // Evaluated as the methods are: the ground truth itself has no error, standing still does.
+  EXPECT_LT(std::stod(rows["truth"][6]), 1e-6);
+  EXPECT_GT(std::stod(rows["still"][6]), 0.5);
+  EXPECT_LT(std::stod(rows["dlo-paper"][6]), 0.5 * std::stod(rows["still"][6]));
+  EXPECT_GT(std::stod(rows["still"][7]), 90.0) << "no motion: about 100 % drift";
+  for (const std::string name : {"broken", "short"}) {
+    SCOPED_TRACE(name);
+    ASSERT_TRUE(rows.count(name));
+    EXPECT_EQ(rows[name][6], "") << "no accuracy for a failed peer";
+    EXPECT_FALSE(fs::exists(dir / (name + ".tum")));
+  }
+  const std::string md = readFile(dir / "table.md");
+  EXPECT_NE(md.find("| still | external program (ms/frame: whole process / scans) | 6 |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("* broken: the command exited with status 3"), std::string::npos) << md;
+  EXPECT_FALSE(fs::exists(dir / "peer-scans")) << "the peers' KITTI folder is removed";
+}
+
+TEST_F(DloBenchApp, WithoutGroundTruthTheNotesGiveWhereEachTrajectoryEnds) {
+  const fs::path dir = *dir_ / "nogt";
+  const std::string cmd = std::string(DLO_BENCH_BINARY) + " --input " +
+                          (*dir_ / "sequence.rawlog").string() + " --quiet --out " + dir.string() +
+                          " --methods dlo-paper --max-frames 5 > /dev/null 2> " + stderrPath();
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << readFile(stderrPath());
+  const std::string md = readFile(dir / "table.md");
+  EXPECT_NE(md.find("* No ground truth (--gt): accuracy not evaluated."), std::string::npos) << md;
+  EXPECT_NE(md.find(" dlo-paper ("), std::string::npos) << md;
+  EXPECT_EQ(csvRows(readFile(dir / "table.csv"))["dlo-paper"][6], "");
+}
+
+TEST_F(DloBenchApp, BadPeersAreCommandLineErrorsNamingThem) {
+  const std::string out = " --out " + (*dir_ / "badpeer").string() + " --methods dlo-paper";
+  EXPECT_EQ(bench(out + " --peer just-a-name"), 2);
+  EXPECT_NE(readFile(stderrPath()).find("--peer expects NAME=COMMAND, got 'just-a-name'"),
+            std::string::npos)
+      << readFile(stderrPath());
+  EXPECT_EQ(bench(out + " --peer " + test::shellQuote("p=echo hello")), 2);
+  EXPECT_NE(readFile(stderrPath()).find("must contain {out}"), std::string::npos);
+  EXPECT_EQ(bench(out + " --peer " + test::shellQuote("dlo=cp x {out}")), 2);
+  EXPECT_NE(readFile(stderrPath()).find("'dlo'"), std::string::npos);
+  EXPECT_EQ(bench(out + " --peer " + test::shellQuote("a/b=cp x {out}")), 2);
+  EXPECT_FALSE(fs::exists(*dir_ / "badpeer"));
 }
 
 TEST_F(DloBenchApp, UnknownMethodIsACommandLineErrorNamingIt) {

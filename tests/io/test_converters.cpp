@@ -1,5 +1,6 @@
-// dlo-kitti2rawlog and dlo-pcap2rawlog end to end: the built binaries on the real samples, and
-// their bad-input cases (non-zero exit, one line naming the file).
+// dlo-kitti2rawlog, dlo-rawlog2kitti and dlo-pcap2rawlog end to end: the built binaries on the
+// real samples and a short simulated drive, and their bad-input cases (non-zero exit, one line
+// naming the file).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -8,6 +9,8 @@
 #include <sstream>
 
 #include "../test_process.h"
+#include "dlo/metrics/trajectory_io.h"
+#include "dlo/mrpt/kitti_scan_source.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 #include "io_test_helpers.h"
 
@@ -205,6 +208,85 @@ TEST(Pcap2Rawlog, RejectsBadInputWithOneLineNamingTheFile) {
   EXPECT_EQ(run(DLO_PCAP2RAWLOG_BINARY, {dir.path("text.pcap"), dir.path("o.rawlog")}, dir).status,
             2);
   EXPECT_EQ(run(DLO_PCAP2RAWLOG_BINARY, {"--help"}, dir).status, 0);
+}
+
+/// A 6-sweep simulated VLP-16 drive (sequence.rawlog, groundtruth.tum) in `dir`/sim.
+std::string simulateDrive(const test::TempDir& dir) {
+  const std::string sim = dir.path("sim");
+  const RunResult r =
+      run(DLO_SIMULATE_BINARY,
+          {"--out", sim, "--frames", "6", "--sensor", "VLP16", "--seed", "1", "--quiet"}, dir);
+  EXPECT_EQ(r.status, 0) << r.err;
+  return sim;
+}
+
+TEST(Rawlog2Kitti, WritesAFolderThatReadsBackAsTheSameScansTimesAndGroundTruth) {
+  test::TempDir dir;
+  const std::string sim = simulateDrive(dir), kitti = dir.path("kitti");
+  const RunResult r =
+      run(DLO_RAWLOG2KITTI_BINARY,
+          {sim + "/sequence.rawlog", kitti, "--gt", sim + "/groundtruth.tum", "--quiet"}, dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_FALSE(fs::exists(kitti + ".tmp"));
+  // The scans dlo-slam reads from the folder are those it reads from the rawlog, bit for bit.
+  RawlogScanSource rawlog(sim + "/sequence.rawlog");
+  KittiScanSource folder(kitti);
+  TimedScan a, b;
+  size_t scans = 0;
+  while (rawlog.next(a)) {
+    ASSERT_TRUE(folder.next(b)) << "scan " << scans;
+    EXPECT_NEAR(b.timestampSeconds(), a.timestampSeconds(), 1e-6);
+    ASSERT_EQ(b.points.size(), a.points.size());
+    EXPECT_EQ(b.points, a.points) << "scan " << scans;
+    ++scans;
+  }
+  EXPECT_FALSE(folder.next(b));
+  EXPECT_EQ(scans, 6u);
+  // poses.txt: the ground truth at each scan, in the first scan's frame.
+  const metrics::Trajectory gt = metrics::readTumTrajectory(sim + "/groundtruth.tum");
+  const std::vector<Eigen::Isometry3d>& poses = folder.sequence().lidar_poses;
+  ASSERT_EQ(poses.size(), scans);
+  ASSERT_GE(gt.size(), scans);
+  EXPECT_TRUE(poses.front().isApprox(Eigen::Isometry3d::Identity(), 1e-12));
+  for (size_t i = 0; i < scans; ++i) {
+    const Eigen::Isometry3d expected = gt.poses.front().inverse() * gt.poses[i];
+    EXPECT_TRUE(poses[i].isApprox(expected, 1e-8)) << "pose " << i;
+  }
+  EXPECT_GT(poses.back().translation().norm(), 1.0) << "the simulated vehicle moves";
+}
+
+TEST(Rawlog2Kitti, RejectsBadInputWithOneLineNamingTheFile) {
+  test::TempDir dir;
+  const std::string program = "dlo-rawlog2kitti";
+  expectOneLineError(run(DLO_RAWLOG2KITTI_BINARY, {dir.path("no.rawlog"), dir.path("k")}, dir),
+                     program, "no.rawlog");
+  EXPECT_FALSE(fs::exists(dir.path("k")));
+  std::ofstream(dir.path("text.rawlog")) << "not a rawlog\n";
+  expectOneLineError(run(DLO_RAWLOG2KITTI_BINARY, {dir.path("text.rawlog"), dir.path("k")}, dir),
+                     program, "text.rawlog");
+  const std::string sim = simulateDrive(dir);
+  // A ground truth that misses the scans' times by a second.
+  metrics::Trajectory late = metrics::readTumTrajectory(sim + "/groundtruth.tum");
+  for (double& t : late.times) t += 1.0;
+  metrics::writeTumTrajectory(dir.path("late.tum"), late);
+  expectOneLineError(
+      run(DLO_RAWLOG2KITTI_BINARY,
+          {sim + "/sequence.rawlog", dir.path("k"), "--gt", dir.path("late.tum"), "--quiet"}, dir),
+      program, "late.tum");
+  EXPECT_FALSE(fs::exists(dir.path("k"))) << "no folder for a conversion that failed";
+  // An output folder that already holds files is not overwritten.
+  fs::create_directories(dir.path("full"));
+  std::ofstream(dir.path("full/keep.txt")) << "mine\n";
+  expectOneLineError(
+      run(DLO_RAWLOG2KITTI_BINARY, {sim + "/sequence.rawlog", dir.path("full")}, dir), program,
+      "full");
+  EXPECT_EQ(readFile(dir.path("full/keep.txt")), "mine\n");
+  EXPECT_EQ(run(DLO_RAWLOG2KITTI_BINARY, {sim + "/sequence.rawlog"}, dir).status, 2);
+  EXPECT_EQ(run(DLO_RAWLOG2KITTI_BINARY,
+                {sim + "/sequence.rawlog", dir.path("k"), "--max-frames", "0"}, dir)
+                .status,
+            2);
+  EXPECT_EQ(run(DLO_RAWLOG2KITTI_BINARY, {"--help"}, dir).status, 0);
 }
 
 }  // namespace

@@ -58,6 +58,7 @@ MethodRow evaluateRun(const MethodRun& run, const std::string& preprocessing,
   const double total_ms = std::accumulate(ms.begin(), ms.end(), 0.0);
   row.frames_per_s = total_ms > 0.0 ? 1000.0 * static_cast<double>(n) / total_ms : kNaN;
 
+  if (ground_truth.empty()) return row;
   metrics::Trajectory estimate;
   for (size_t i = 0; i < n; ++i)
     estimate.push_back(run.trajectory.times[i], run.trajectory.poses[i]);

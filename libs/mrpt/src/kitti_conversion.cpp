@@ -2,14 +2,49 @@
 
 #include <mrpt/maps/CPointsMapXYZI.h>
 #include <mrpt/obs/CObservationPointCloud.h>
+#include <cstdio>
 
+#include "dlo/metrics/timestamp_matching.h"
+#include "dlo/metrics/trajectory_io.h"
 #include "dlo/mrpt/input_error.h"
 #include "dlo/mrpt/kitti_bin.h"
+#include "dlo/mrpt/kitti_folder_writer.h"
 #include "dlo/mrpt/kitti_sequence.h"
+#include "dlo/mrpt/rawlog_scan_source.h"
 #include "dlo/mrpt/rawlog_writer.h"
 #include "dlo/mrpt/tum_file.h"
 
 namespace dlo {
+
+namespace {
+
+/// The pose of `ground_truth` (read from `gt_path`) stamped nearest each of `times`, within
+/// `max_dt`, in the frame of the first. \throws InputError naming the first scan without one.
+std::vector<Eigen::Isometry3d> posesAtTimes(const metrics::Trajectory& ground_truth,
+                                            const std::vector<double>& times, double max_dt,
+                                            const std::string& gt_path) {
+  metrics::Trajectory scans;
+  for (const double t : times) scans.push_back(t, Eigen::Isometry3d::Identity());
+  std::vector<Eigen::Isometry3d> poses(times.size());
+  std::vector<bool> found(times.size(), false);
+  for (const auto& [scan, reference] : metrics::matchTimestamps(scans, ground_truth, max_dt)) {
+    poses[scan] = ground_truth.poses[reference];
+    found[scan] = true;
+  }
+  for (size_t i = 0; i < times.size(); ++i) {
+    if (!found[i]) {
+      char text[160];
+      std::snprintf(text, sizeof text, "' has no pose within %.0f ms of scan %zu (t = %.6f s).",
+                    1000.0 * max_dt, i, times[i]);
+      throw InputError("ground truth '" + gt_path + text);
+    }
+  }
+  const Eigen::Isometry3d first_inverse = poses.front().inverse();
+  for (Eigen::Isometry3d& pose : poses) pose = first_inverse * pose;
+  return poses;
+}
+
+}  // namespace
 
 KittiConversionResult convertKittiSequence(const std::string& seq_dir,
                                            const std::string& out_rawlog, const std::string& gt_tum,
@@ -49,6 +84,43 @@ KittiConversionResult convertKittiSequence(const std::string& seq_dir,
     writeTumTrajectory(gt_tum, seq.times, seq.lidar_poses);
     result.poses = seq.lidar_poses.size();
   }
+  return result;
+}
+
+RawlogToKittiResult convertRawlogToKitti(const std::string& rawlog, const std::string& out_dir,
+                                         const std::string& gt_tum,
+                                         const ScanSourceOptions& options, long max_scans,
+                                         const std::function<void(size_t)>& progress) {
+  metrics::Trajectory ground_truth;
+  if (!gt_tum.empty()) {
+    try {
+      ground_truth = metrics::readTumTrajectory(gt_tum);
+    } catch (const std::exception& e) {
+      throw InputError("cannot read ground truth '" + gt_tum + "': " + e.what());
+    }
+  }
+  RawlogScanSource source(rawlog, options);
+  KittiFolderWriter writer(out_dir);
+  RawlogToKittiResult result;
+  std::vector<double> times;
+  TimedScan scan;
+  while ((max_scans < 0 || static_cast<long>(result.scans) < max_scans) && source.next(scan)) {
+    writer.write(scan.timestampSeconds(), scan.points);
+    times.push_back(scan.timestampSeconds());
+    ++result.scans;
+    result.points += scan.points.size();
+    if (progress) progress(result.scans);
+  }
+  result.stats = source.stats();
+  result.input_warning = source.stats().error;
+  if (result.scans == 0) {
+    throw InputError("rawlog '" + rawlog + "' holds no scan" +
+                     (result.input_warning.empty() ? "." : ": " + result.input_warning));
+  }
+  std::vector<Eigen::Isometry3d> poses;
+  if (!gt_tum.empty()) poses = posesAtTimes(ground_truth, times, 0.005, gt_tum);
+  writer.commit(poses);
+  result.poses = poses.size();
   return result;
 }
 

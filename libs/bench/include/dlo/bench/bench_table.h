@@ -28,7 +28,8 @@ struct MethodRow {
 };
 
 /// Timing, ATE (poses matched to `ground_truth` within 5 ms, SE(3) Umeyama) and KITTI drift of
-/// the first `first_frames` poses of `run` (all if larger than the run).
+/// the first `first_frames` poses of `run` (all if larger than the run). Without ground truth
+/// (empty) the accuracy fields are NaN and no error is set.
 MethodRow evaluateRun(const MethodRun& run, const std::string& preprocessing,
                       const metrics::Trajectory& ground_truth,
                       size_t first_frames = static_cast<size_t>(-1));

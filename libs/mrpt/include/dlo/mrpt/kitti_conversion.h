@@ -1,10 +1,12 @@
 /// \file kitti_conversion.h
-/// \brief A KITTI odometry sequence folder to an MRPT rawlog and a TUM ground truth.
+/// \brief A KITTI odometry sequence folder to an MRPT rawlog and a TUM ground truth, and back.
 #pragma once
 
 #include <cstddef>
 #include <functional>
 #include <string>
+
+#include "dlo/mrpt/scan_source.h"
 
 namespace dlo {
 
@@ -29,5 +31,30 @@ struct KittiConversionResult {
 KittiConversionResult convertKittiSequence(
     const std::string& seq_dir, const std::string& out_rawlog, const std::string& gt_tum,
     const std::function<void(size_t, size_t)>& progress = nullptr);
+
+/// What convertRawlogToKitti() did, for the summary line of the converter.
+struct RawlogToKittiResult {
+  size_t scans = 0;           ///< Scans written to velodyne/.
+  size_t points = 0;          ///< Points written, over all scans.
+  size_t poses = 0;           ///< Lines written to poses.txt (0 without ground truth).
+  ScanSourceStats stats;      ///< The rawlog reader's counters (skipped classes, dropped points).
+  std::string input_warning;  ///< Where the rawlog broke, if it did (the scans before it are kept).
+};
+
+/// Writes the scans of `rawlog`, as RawlogScanSource gives them with `options` (vehicle frame,
+/// range-filtered), into the KITTI folder `out_dir` (see KittiFolderWriter: the folder must be
+/// new or empty; times.txt holds the scans' stamps), the first `max_scans` of them (all if
+/// negative). If `gt_tum` is not empty, poses.txt holds the pose of that TUM ground truth
+/// stamped nearest each scan (within 5 ms, the tolerance dlo-bench matches with), expressed in
+/// the first scan's frame as KITTI's poses are; dlo-kitti2rawlog and dlo-slam read the folder
+/// back as the same scans and times. `progress(done)` is called after each scan.
+/// \throws InputError naming the file at fault: the rawlog or ground truth cannot be read, the
+///         rawlog holds no scan, a scan has no ground-truth pose within 5 ms, the folder cannot be
+///         written. A rawlog that breaks part way is not an error: the scans before the break
+///         are written and input_warning says where it broke.
+RawlogToKittiResult convertRawlogToKitti(const std::string& rawlog, const std::string& out_dir,
+                                         const std::string& gt_tum,
+                                         const ScanSourceOptions& options = {}, long max_scans = -1,
+                                         const std::function<void(size_t)>& progress = nullptr);
 
 }  // namespace dlo
