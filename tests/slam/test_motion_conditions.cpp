@@ -149,3 +149,37 @@ TEST(MotionConditions, ARobotTurningOnTheSpotIsFollowed) {
 
 }  // namespace
 }  // namespace dlo
+
+namespace dlo {
+namespace {
+
+TEST(MotionConditions, AHardStopIsFollowedAndTheVehicleStandsStill) {
+  // The car brakes at 7 m/s^2 from ~8 m/s to a standstill 6 s into the drive, stands for 2 s and
+  // accelerates again at 2.5 m/s^2 (dlo-simulate --stops): the prediction runs on at the old
+  // speed for a scan while the scans show the vehicle slowing, then standing.
+  const auto stop = simulate("stop", "--stops");
+  const OdometryRun r = runOdometry(*stop, SlamParams());
+  // The first standstill: scans whose true motion since the scan before is below 1 cm.
+  const auto& truth = stop->truth.poses;
+  size_t first = 0, last = 0;
+  for (size_t i = 1; i < truth.size() && i < r.poses.size(); ++i) {
+    const bool still = (truth[i].translation() - truth[i - 1].translation()).norm() < 0.01;
+    if (still && first == 0) first = i - 1;
+    if (!still && first != 0) break;
+    if (still) last = i;
+  }
+  ASSERT_GT(first, 0u);
+  // How far the estimate moved while the vehicle stood.
+  const double moved = (r.poses[last].translation() - r.poses[first].translation()).norm();
+  std::printf(
+      "hard stop: ATE %.3f m, drift %.2f %%; standing still over scans %zu-%zu, "
+      "estimated to move %.3f m meanwhile\n",
+      r.accuracy.ate_rmse_before, r.accuracy.drift_percent_before, first, last, moved);
+  EXPECT_GE(last - first, 15u);  // the 2 s standstill, at least
+  EXPECT_LT(moved, 0.1);
+  EXPECT_LT(r.accuracy.ate_rmse_before, 0.5);
+  EXPECT_LT(r.accuracy.drift_percent_before, 2.0);
+}
+
+}  // namespace
+}  // namespace dlo
