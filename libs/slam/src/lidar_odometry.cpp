@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "dlo/core/deskew.h"
+#include "dlo/core/ground_alignment.h"
 #include "dlo/core/sweep_timing.h"
 
 namespace dlo {
@@ -74,7 +75,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   const DloParams& reg = params_.registration;
   const double dt = frames_ == 0 ? 0.0 : time - last_time_;
   // Constant velocity: the motion of the last interval, repeated.
-  const Eigen::Isometry3d predicted =
+  Eigen::Isometry3d predicted =
       dt > 0.0 && dt < 1.0 ? last_pose_ * expSE3(velocity_ * dt) : last_pose_;
 
   // With the scan map (reference = 3) every sweep has two readers, its grid and the map: it is
@@ -102,6 +103,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     pending_ptr = copy || !deskew ? &none : &motion;
     step.times.deskew_ms += w.elapsedMs();
     current_.build(*cloud_ptr, *pending_ptr, reg.grid, reg.selection, reg.includeGround(), use);
+    ground_fitted_ = false;
   };
   step.times.deskew_ms = deskew_watch.elapsedMs();
   build(velocity_);
@@ -111,6 +113,12 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
 
   Eigen::Isometry3d pose = predicted;
   if (has_reference_ && !current_.empty()) {
+    // The prediction carries the planar motion only: its height and tilt come from the ground
+    // under it, so that x, y and yaw are registered with the cells at their true heights (a
+    // height error shifts a registration towards a kerb on one side).
+    predicted = onGround(predicted, step);
+    const bool prediction_levelled = step.levelled;
+    pose = predicted;
     const Eigen::Isometry3d to_reference = reference_pose_.inverse();
     step.registration = aligner_.align(reference_, current_, to_reference * predicted);
     pose = reference_pose_ * step.registration.pose;
@@ -166,6 +174,14 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
       if (scan_map_) scan_map_->clear();
     }
     rejected_run_ = step.rejected ? rejected_run_ + 1 : 0;
+    if (!step.rejected) {
+      // x, y and yaw registered: z, roll and pitch from the ground at that place and heading
+      // (a rejected scan keeps the prediction, levelled above).
+      pose = onGround(pose, step);
+      step.registration.pose = to_reference * pose;
+    } else {
+      step.levelled = prediction_levelled;
+    }
   }
   step.pose = pose;
 
@@ -256,7 +272,8 @@ Eigen::Isometry3d LidarOdometry::decideByEvidence(const Eigen::Isometry3d& predi
       continue;
     }
     tried.push_back(start);
-    const AlignmentResult r = aligner_.align(reference_, current_, to_reference * start);
+    const AlignmentResult r =
+        aligner_.align(reference_, current_, to_reference * onGround(start, step));
     ++step.starts;
     step.times.registration.solve_ms += r.times.solve_ms;
     answers.push_back({r, reference_pose_ * r.pose});
@@ -385,6 +402,44 @@ void LidarOdometry::keepPrediction(const Eigen::Isometry3d& predicted, Alignment
   r.pose = reference_pose_.inverse() * predicted;
   r.degenerate = true;
   r.covariance = Matrix6d::Identity() * kUnobservedVariance;
+}
+
+bool LidarOdometry::levelling() const {
+  return params_.odometry.levelling == 1 && params_.registration.solver.dof == 3;
+}
+
+size_t LidarOdometry::groundLevel() const {
+  constexpr double kGroundCell = 0.4;  // metres
+  const std::vector<FrameLevel>& levels = current_.levels();
+  size_t best = 0;
+  for (size_t k = 1; k < levels.size(); ++k) {
+    const auto off = [&](size_t i) {
+      return std::abs(std::log(levels[i].grid.resolution() / kGroundCell));
+    };
+    if (off(k) < off(best)) best = k;
+  }
+  return best;
+}
+
+Eigen::Isometry3d LidarOdometry::onGround(const Eigen::Isometry3d& pose, OdometryStep& step) {
+  step.levelled = false;
+  if (!levelling() || !has_reference_ || current_.empty()) return pose;
+  Stopwatch watch;
+  const size_t k = groundLevel();
+  if (!ground_fitted_) {
+    fitGroundSurface(current_.levels()[k].grid, GroundSurfaceParams(), ground_);
+    ground_fitted_ = true;
+  }
+  Eigen::Isometry3d out = pose;
+  if (ground_.found && k < reference_.levels().size()) {
+    const GroundAlignment g =
+        alignToGround(reference_.levels()[k].grid, ground_.cells, reference_pose_.inverse() * pose,
+                      params_.registration.solver.rotation_scale);
+    if (g.aligned) out = reference_pose_ * g.pose;
+    step.levelled = g.aligned;
+  }
+  step.times.ground_ms += watch.elapsedMs();
+  return out;
 }
 
 bool LidarOdometry::hasStructure() const {

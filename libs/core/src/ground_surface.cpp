@@ -1,0 +1,134 @@
+#include "dlo/core/ground_surface.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+
+namespace dlo {
+
+namespace {
+
+/// Coordinates in units of this many metres keep the quadratic's normal equations well scaled.
+constexpr double kUnit = 10.0;
+/// Quantile of the nearest cells' heights that starts the ground: most cells near a vehicle are
+/// ground, and what is not (cars, walls, bushes) lies above it.
+constexpr double kStartQuantile = 0.25;
+
+/// One pass of the fit: the cells within `range` metres of the origin and `band` metres of the
+/// current surface, and the terms fitted to them (3: a plane, 6: a quadratic).
+struct Pass {
+  double range;
+  double band;
+  int terms;
+};
+
+Eigen::Matrix<double, 6, 1> terms(double x, double y) {
+  const double u = x / kUnit, v = y / kUnit;
+  Eigen::Matrix<double, 6, 1> t;
+  t << 1.0, u, v, u * u, u * v, v * v;
+  return t;
+}
+
+/// Least squares of the cells of `pass` against the surface `c`; returns false (and leaves `c`)
+/// when too few cells take part or the system is singular.
+bool refit(const std::vector<GroundCell>& cells, const Pass& pass, Eigen::Matrix<double, 6, 1>& c) {
+  Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+  const double r2 = pass.range * pass.range;
+  int n = 0;
+  for (const GroundCell& g : cells) {
+    const double x = g.x, y = g.y;
+    if (x * x + y * y > r2) continue;
+    const Eigen::Matrix<double, 6, 1> t = terms(x, y);
+    if (std::abs(g.h - c.dot(t)) > pass.band) continue;
+    A.selfadjointView<Eigen::Upper>().rankUpdate(t);
+    b += g.h * t;
+    ++n;
+  }
+  const int k = pass.terms;
+  // A few times more cells than terms, spread enough to hold each of them.
+  if (n < 5 * k) return false;
+  const Eigen::MatrixXd Ak = A.topLeftCorner(k, k).selfadjointView<Eigen::Upper>();
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(Ak);
+  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-9)) return false;
+  const Eigen::VectorXd x = ldlt.solve(b.head(k));
+  if (!x.allFinite()) return false;
+  c.setZero();
+  c.head(k) = x;
+  return true;
+}
+
+}  // namespace
+
+double GroundSurface::heightAt(double x, double y) const {
+  return coefficients.dot(terms(x, y));
+}
+
+void fitGroundSurface(const HeightGrid& grid, const GroundSurfaceParams& params,
+                      GroundSurface& out) {
+  out.found = false;
+  out.coefficients.setZero();
+  out.cells.clear();
+  const GridGeometry& g = grid.geometry();
+  const double r_min2 = params.min_range * params.min_range;
+  const double r_max2 = params.max_range * params.max_range;
+  for (int row = 0; row < g.rows; ++row) {
+    const double y = g.cellCentreY(row);
+    if (y * y > r_max2) continue;
+    for (int col = 0; col < g.cols; ++col) {
+      if (!grid.isValid(row, col)) continue;
+      const double x = g.cellCentreX(col);
+      const double d2 = x * x + y * y;
+      if (d2 < r_min2 || d2 > r_max2) continue;
+      out.cells.push_back(
+          GroundCell{static_cast<float>(x), static_cast<float>(y), grid.height(row, col)});
+    }
+  }
+  // The passes widen the area and tighten the band: near the vehicle the ground is close to a
+  // plane whatever its shape farther out; a crest or dip bends it by up to half a metre at
+  // 10 m on a 20 % grade change, which the quadratic then follows outwards.
+  const double near = std::min(params.max_range, std::max(8.0, 2.0 * params.min_range));
+  const Pass passes[] = {
+      {near, 0.5, 3},
+      {0.7 * params.max_range, 0.3, 6},
+      {params.max_range, 2.0 * params.band, 6},
+      {params.max_range, params.band, 6},
+  };
+  thread_local std::vector<float> heights;
+  heights.clear();
+  for (const GroundCell& c : out.cells) {
+    if (c.x * c.x + c.y * c.y <= near * near) heights.push_back(c.h);
+  }
+  if (static_cast<int>(heights.size()) < params.min_cells) {
+    out.cells.clear();
+    return;
+  }
+  const auto q = heights.begin() + static_cast<std::ptrdiff_t>(kStartQuantile * heights.size());
+  std::nth_element(heights.begin(), q, heights.end());
+  Eigen::Matrix<double, 6, 1> c = Eigen::Matrix<double, 6, 1>::Zero();
+  c(0) = *q;
+  for (const Pass& pass : passes) {
+    // A quadratic that the cells cannot hold keeps the plane (or surface) of the pass before.
+    if (!refit(out.cells, pass, c) && pass.terms == 3) {
+      out.cells.clear();
+      return;
+    }
+  }
+  const double band = params.band;
+  const auto off = std::remove_if(out.cells.begin(), out.cells.end(), [&](const GroundCell& cell) {
+    return std::abs(cell.h - c.dot(terms(cell.x, cell.y))) > band;
+  });
+  out.cells.erase(off, out.cells.end());
+  const size_t keep = static_cast<size_t>(params.max_cells);
+  if (out.cells.size() > keep) {
+    // Every (size / keep)-th cell, in fixed point: deterministic and even over the grid.
+    const size_t n = out.cells.size();
+    for (size_t i = 0; i < keep; ++i) out.cells[i] = out.cells[i * n / keep];
+    out.cells.resize(keep);
+  }
+  out.coefficients = c;
+  out.found = static_cast<int>(out.cells.size()) >= params.min_cells;
+  if (!out.found) out.cells.clear();
+}
+
+}  // namespace dlo
