@@ -14,6 +14,15 @@ Conditions:
   abrupt-notimes  both
   patrol        a robot's patrol at 1.5 m/s, turning on the spot at 90 deg/s (90 and 180 deg)
   patrol-notimes  the patrol without per-point times
+  hills         the town on steep hills: grades up to 20 % (about 15 % reached on the drive),
+                crests and dips every ~55 m; the car pitches and rolls with the road
+  hills-notimes   the hills without per-point times
+  open-road     an open road at 15 m/s: a 585 m straight through grass with kerbs, a pole every
+                ~60 m and a clump of trees every ~200 m (little constrains the scans along it)
+  open-road-notimes  the open road without per-point times
+  stop          the town's laps with hard stops: 6 s in and every 12 s after, braking at 7 m/s^2
+                to a standstill, 2 s still, accelerating again at 2.5 m/s^2
+  stop-notimes  the stops without per-point times
 
 Example:
   python3 scripts/eval_matrix.py --out /tmp/matrix --sensors HDL64 VLP16 --seeds 1 2 3
@@ -37,6 +46,12 @@ CONDITIONS = {
                        ["odometry.sweep_stamp=0"]),
     "patrol": (["--patrol"], []),
     "patrol-notimes": (["--patrol", "--no-point-times"], ["odometry.sweep_stamp=0"]),
+    "hills": (["--hills", "0.2"], []),
+    "hills-notimes": (["--hills", "0.2", "--no-point-times"], ["odometry.sweep_stamp=0"]),
+    "open-road": (["--open-road"], []),
+    "open-road-notimes": (["--open-road", "--no-point-times"], ["odometry.sweep_stamp=0"]),
+    "stop": (["--stops"], []),
+    "stop-notimes": (["--stops", "--no-point-times"], ["odometry.sweep_stamp=0"]),
 }
 
 

@@ -21,6 +21,7 @@ namespace {
 constexpr const char* kUsage =
     R"(Usage: dlo-simulate --out DIR [--frames N] [--sensor HDL64|HDL32|VLP16] [--seed S]
                     [--corner-transition M] [--patrol [--speed V] [--turn-rate W]]
+                    [--hills G] [--open-road] [--stops]
                     [--no-point-times] [--threads T] [--quiet] [--help]
 
 Simulates a LiDAR on a car driving laps around a 60 x 40 m block of a procedural town on
@@ -50,6 +51,16 @@ Options:
                  the start; about 170 s per lap at 1.5 m/s
   --speed V      patrol speed, m/s in [0.2, 5] (default 1.5)
   --turn-rate W  patrol turn rate on the spot, deg/s in [10, 180] (default 90)
+  --hills G      steep hills instead of the gentle ones: the ground's grade (with the road's
+                 crown) stays within G in [0.05, 0.3] (0.2 = 20 %) and the drive reaches
+                 about 0.75 G between crests and dips every ~55 m; the car pitches and rolls
+                 with the road, everything stands on the ground
+  --open-road    an open road instead of the town: the car drives at 15 m/s along a 585 m
+                 straight (then round a 1200 x 150 m rectangle) through grass, kerbs on both
+                 sides, a pole every ~60 m and a clump of trees every ~200 m, so that the
+                 scans constrain little along the road
+  --stops        hard stops: 6 s into the drive and every 12 s after, the car brakes at
+                 7 m/s^2 to a standstill, waits 2 s and accelerates again at 2.5 m/s^2
   --no-point-times
                  write each sweep as an mrpt::obs::CObservationPointCloud of the same points
                  (sensor frame, firing order, motion distortion included) without per-point
@@ -77,6 +88,9 @@ struct Arguments {
   bool patrol = false;
   double speed = 1.5;
   double turn_rate = 90.0;
+  double hills = 0.0;
+  bool open_road = false;
+  bool stops = false;
   bool no_point_times = false;
   bool quiet = false;
   bool help = false;
@@ -128,6 +142,14 @@ Arguments parseArguments(int argc, char** argv) {
       a.no_point_times = true;
       continue;
     }
+    if (arg == "--open-road") {
+      a.open_road = true;
+      continue;
+    }
+    if (arg == "--stops") {
+      a.stops = true;
+      continue;
+    }
     std::string value;
     const auto eq = arg.find('=');
     if (eq != std::string::npos && arg.rfind("--", 0) == 0) {
@@ -135,7 +157,7 @@ Arguments parseArguments(int argc, char** argv) {
       arg = arg.substr(0, eq);
     } else if (arg == "--out" || arg == "--frames" || arg == "--sensor" || arg == "--seed" ||
                arg == "--threads" || arg == "--corner-transition" || arg == "--speed" ||
-               arg == "--turn-rate") {
+               arg == "--turn-rate" || arg == "--hills") {
       if (i + 1 >= argc) throw UserError{arg + " needs a value."};
       value = argv[++i];
     }
@@ -157,6 +179,8 @@ Arguments parseArguments(int argc, char** argv) {
       a.speed = parseNumber("--speed", value, 0.2, 5.0, "a speed in [0.2, 5] m/s");
     } else if (arg == "--turn-rate") {
       a.turn_rate = parseNumber("--turn-rate", value, 10.0, 180.0, "a rate in [10, 180] deg/s");
+    } else if (arg == "--hills") {
+      a.hills = parseNumber("--hills", value, 0.05, 0.3, "a grade in [0.05, 0.3]");
     } else if (arg == "--threads") {
       a.threads =
           static_cast<int>(parseInteger("--threads", value, 1, 64, "an integer in [1, 64]"));
@@ -208,12 +232,19 @@ int run(const Arguments& a) {
   constexpr int64_t kEpochSeconds = 1704067200;
   const mrpt::Clock::time_point epoch = mrpt::Clock::fromDouble(static_cast<double>(kEpochSeconds));
 
-  const auto world = dlo::sim::ProceduralWorld::generate(a.seed);
-  const dlo::sim::WorldParams layout;
-  const auto route =
-      a.patrol ? dlo::sim::Route::patrol(layout.loopMin, layout.loopMax, a.speed, a.turn_rate)
-               : dlo::sim::Route::roundedRectangle(layout.loopMin, layout.loopMax,
-                                                   /*radius=*/10.0, a.corner_transition);
+  dlo::sim::WorldParams town;
+  dlo::sim::OpenRoadParams road;
+  town.maxGrade = road.maxGrade = a.hills;
+  const auto world = a.open_road ? dlo::sim::ProceduralWorld::generateOpenRoad(a.seed, road)
+                                 : dlo::sim::ProceduralWorld::generate(a.seed, town);
+  const Eigen::Vector2d lo = a.open_road ? road.loopMin : town.loopMin;
+  const Eigen::Vector2d hi = a.open_road ? road.loopMax : town.loopMax;
+  dlo::sim::SpeedLimits limits;
+  if (a.open_road) limits.cruise = road.cruise;
+  auto route = a.patrol ? dlo::sim::Route::patrol(lo, hi, a.speed, a.turn_rate)
+                        : dlo::sim::Route::roundedRectangle(lo, hi, /*radius=*/10.0,
+                                                            a.corner_transition, limits);
+  if (a.stops) route.setStops(dlo::sim::StopParams(), a.frames * 0.1 + 1.0);
   const dlo::sim::VehicleTrajectory trajectory(route, world.terrain());
   dlo::sim::SweepSimulatorParams params;
   params.model = dlo::sim::makeLidarModel(a.sensor);

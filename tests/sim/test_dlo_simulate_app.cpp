@@ -196,9 +196,29 @@ TEST(DloSimulate, BadArgumentsAreOneSentenceAndExitStatusOne) {
   r = runSimulator(out + " --frames 0");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("--frames"), std::string::npos) << r.err;
+  for (const char* hills : {" --hills 0.5", " --hills steep", " --hills"}) {
+    r = runSimulator(out + hills);
+    EXPECT_EQ(r.status, 1) << hills;
+    EXPECT_NE(r.err.find("--hills"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
   r = runSimulator("--out /proc/dlo_simulate_cannot_write --frames 1");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("--out"), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_EQ(runSimulator("--help > /dev/null").status, 0);
+}
+
+TEST(DloSimulate, DrivesAnOpenRoadOverHillsWithStops) {
+  const fs::path dir = freshDir("conditions");
+  ASSERT_EQ(runSimulator("--out " + dir.string() +
+                         " --frames 2 --sensor VLP16 --open-road --hills 0.2 --stops --quiet")
+                .status,
+            0);
+  std::ifstream tum(dir / "groundtruth.tum");
+  std::string line;
+  int poses = 0;
+  while (std::getline(tum, line)) poses += line[0] != '#';
+  EXPECT_EQ(poses, 2);
+  EXPECT_GT(fs::file_size(dir / "sequence.rawlog"), 100000u);
 }

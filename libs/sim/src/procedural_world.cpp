@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "dlo/sim/deterministic_random.h"
 
@@ -17,7 +18,6 @@ namespace {
 
 /// Everything generate() needs while placing objects.
 struct Builder {
-  const WorldParams& p;
   const Terrain& terrain;
   DeterministicRng& rng;
   std::vector<Primitive> out;
@@ -109,6 +109,20 @@ struct Builder {
   }
 };
 
+/// Three gentle hill waves of 200, 110 and 45 m (each +-10 %) in random directions, the longest
+/// of `amplitude`.
+std::vector<HillWave> gentleHills(DeterministicRng& rng, double amplitude) {
+  const double amplitudes[3] = {amplitude, 0.45 * amplitude, 0.12 * amplitude};
+  const double wavelengths[3] = {200.0, 110.0, 45.0};
+  std::vector<HillWave> hills;
+  for (int k = 0; k < 3; ++k) {
+    const double a = rng.uniform(0.0, 2.0 * M_PI);
+    hills.push_back({amplitudes[k], wavelengths[k] * rng.uniform(0.9, 1.1),
+                     Eigen::Vector2d(std::cos(a), std::sin(a)), rng.uniform(0.0, 2.0 * M_PI)});
+  }
+  return hills;
+}
+
 bool nearAny(double v, const std::vector<double>& lines, double margin) {
   for (double l : lines) {
     if (std::abs(v - l) < margin) return true;
@@ -118,17 +132,33 @@ bool nearAny(double v, const std::vector<double>& lines, double margin) {
 
 }  // namespace
 
+std::vector<HillWave> steepHills(double maxGrade, const TerrainParams& ground, uint32_t seed) {
+  // The crown's grade (2 crown / half width, at the kerbs) adds to the hills' anywhere on a road.
+  const double budget = maxGrade - 2.0 * ground.crownHeight / ground.roadHalfWidth;
+  if (!(budget > 0.0 && std::isfinite(budget)))
+    throw std::invalid_argument("steepHills: the grade must exceed the road crown's");
+  DeterministicRng rng({seed, 0x48494c4cu});  // "HILL"
+  // A wave's grade is amplitude * 2 pi / wavelength; the three together stay within the budget
+  // in any direction, since a sum of grades is at most the sum of their bounds.
+  const auto wave = [&](double share, double wavelength, double direction) {
+    return HillWave{share * budget * wavelength / (2.0 * M_PI), wavelength,
+                    Eigen::Vector2d(std::cos(direction), std::sin(direction)),
+                    rng.uniform(0.0, 2.0 * M_PI)};
+  };
+  std::vector<HillWave> hills;
+  hills.push_back(wave(0.8, rng.uniform(48.0, 62.0), 0.0));
+  hills.push_back(wave(0.15, rng.uniform(70.0, 90.0), 0.5 * M_PI));
+  hills.push_back(wave(0.05, rng.uniform(35.0, 45.0), rng.uniform(0.0, 2.0 * M_PI)));
+  return hills;
+}
+
 ProceduralWorld ProceduralWorld::generate(uint32_t seed, const WorldParams& p) {
   DeterministicRng rng({seed, 0x574f524cu});  // "WORL": a stream of its own.
 
   TerrainParams tp;
-  const double amplitudes[3] = {p.hillAmplitude, 0.45 * p.hillAmplitude, 0.12 * p.hillAmplitude};
-  const double wavelengths[3] = {200.0, 110.0, 45.0};
-  for (int k = 0; k < 3; ++k) {
-    const double a = rng.uniform(0.0, 2.0 * M_PI);
-    tp.hills.push_back({amplitudes[k], wavelengths[k] * rng.uniform(0.9, 1.1),
-                        Eigen::Vector2d(std::cos(a), std::sin(a)), rng.uniform(0.0, 2.0 * M_PI)});
-  }
+  // Drawn even when steep hills replace them, so that the objects are the same town's.
+  tp.hills = gentleHills(rng, p.hillAmplitude);
+  if (p.maxGrade > 0.0) tp.hills = steepHills(p.maxGrade, tp, seed);
   const double x0 = p.roadsX.front() - p.roadExtension, x1 = p.roadsX.back() + p.roadExtension;
   const double y0 = p.roadsY.front() - p.roadExtension, y1 = p.roadsY.back() + p.roadExtension;
   for (double x : p.roadsX) tp.roads.push_back({{x, y0}, {x, y1}});
@@ -137,7 +167,7 @@ ProceduralWorld ProceduralWorld::generate(uint32_t seed, const WorldParams& p) {
   tp.gridMax = p.loopMax + Eigen::Vector2d::Constant(p.gridMargin);
   Terrain terrain(tp);
 
-  Builder b{p, terrain, rng, {}};
+  Builder b{terrain, rng, {}};
   const double w = tp.roadHalfWidth, sidewalk = tp.sidewalkWidth;
 
   // Blocks between roads: lots with buildings or small parks.
@@ -224,6 +254,51 @@ ProceduralWorld ProceduralWorld::generate(uint32_t seed, const WorldParams& p) {
   }
   return ProceduralWorld(std::move(terrain), std::move(b.out), Traffic(std::move(moving)),
                          p.objectCellSize);
+}
+
+ProceduralWorld ProceduralWorld::generateOpenRoad(uint32_t seed, const OpenRoadParams& p) {
+  DeterministicRng rng({seed, 0x524f4144u});  // "ROAD": not the town's stream.
+  TerrainParams tp;
+  tp.hills =
+      p.maxGrade > 0.0 ? steepHills(p.maxGrade, tp, seed) : gentleHills(rng, p.hillAmplitude);
+  const Eigen::Vector2d lo = p.loopMin, hi = p.loopMax;
+  const double ext = 30.0;
+  tp.roads = {{{lo.x() - ext, lo.y()}, {hi.x() + ext, lo.y()}},
+              {{lo.x() - ext, hi.y()}, {hi.x() + ext, hi.y()}},
+              {{lo.x(), lo.y() - ext}, {lo.x(), hi.y() + ext}},
+              {{hi.x(), lo.y() - ext}, {hi.x(), hi.y() + ext}}};
+  tp.gridMin = lo - Eigen::Vector2d::Constant(p.gridMargin);
+  tp.gridMax = hi + Eigen::Vector2d::Constant(p.gridMargin);
+  Terrain terrain(tp);
+
+  Builder b{terrain, rng, {}};
+  const double w = tp.roadHalfWidth;
+  for (const RoadSegment& road : tp.roads) {
+    const Eigen::Vector2d along = (road.b - road.a).normalized();
+    const Eigen::Vector2d left(-along.y(), along.x());
+    // Outward from the rectangle: the side away from its centre.
+    const double outer = left.dot(0.5 * (lo + hi) - road.a) > 0.0 ? -1.0 : 1.0;
+    const double length = (road.b - road.a).norm();
+    const auto at = [&](double s, double offset) -> Eigen::Vector2d {
+      return road.a + s * along + offset * left;
+    };
+    // Clear of the crossings at both ends, where the other road's poles stand.
+    const double from = ext + w + 1.0, to = length - ext - w - 1.0;
+    for (double s = from + rng.uniform(0.0, p.poleSpacing); s < to;
+         s += p.poleSpacing * rng.uniform(0.6, 1.4))
+      b.pole(at(s, outer * (w + tp.sidewalkWidth + 0.5)));
+    for (double s = from + rng.uniform(0.0, p.copseSpacing); s < to;
+         s += p.copseSpacing * rng.uniform(0.5, 1.5)) {
+      const double side = rng.bernoulli(0.5) ? 1.0 : -1.0;
+      const Eigen::Vector2d c = at(s, side * rng.uniform(w + 10.0, w + 40.0));
+      const int trees = rng.integer(1, 3), bushes = rng.integer(0, 3);
+      for (int n = 0; n < trees; ++n)
+        b.tree(c + Eigen::Vector2d(rng.uniform(-5.0, 5.0), rng.uniform(-5.0, 5.0)));
+      for (int n = 0; n < bushes; ++n)
+        b.bush(c + Eigen::Vector2d(rng.uniform(-6.0, 6.0), rng.uniform(-6.0, 6.0)));
+    }
+  }
+  return ProceduralWorld(std::move(terrain), std::move(b.out), Traffic(), p.objectCellSize);
 }
 
 }  // namespace dlo::sim

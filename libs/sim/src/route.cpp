@@ -289,7 +289,20 @@ RouteState Route::patrolStateAt(double tau) const {
   return st;
 }
 
+void Route::setStops(const StopParams& params, double until) {
+  stops_ = StopSchedule(params, until, [this](double tau) { return routeStateAt(tau).speed; });
+}
+
 RouteState Route::stateAt(double t) const {
+  if (stops_.empty()) return routeStateAt(t);
+  double rate;
+  RouteState st = routeStateAt(stops_.routeTime(t, rate));
+  st.speed *= rate;
+  st.yawRate *= rate;
+  return st;
+}
+
+RouteState Route::routeStateAt(double t) const {
   const double lapT = times_.back();
   const double laps = std::floor(t / lapT);
   const double tau = t - laps * lapT;

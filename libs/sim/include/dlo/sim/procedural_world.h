@@ -1,4 +1,4 @@
-// The procedural outdoor world: a small town on rolling hills, generated from a seed.
+// The procedural outdoor worlds generated from a seed: a small town on rolling hills, an open road.
 #pragma once
 
 #include <Eigen/Core>
@@ -22,8 +22,36 @@ struct WorldParams {
   double roadExtension = 30.0;  ///< Roads continue this far beyond the outer crossings.
   double gridMargin = 140.0;    ///< Ground tabulated this far around the loop block.
   double hillAmplitude = 1.2;   ///< Largest hill wave [m]; the ground grade stays a few %.
+  /// > 0: steep hills instead, whose grade (with the road's crown) stays within it everywhere
+  /// and comes close to it on the loop's straights, with crests and dips (see steepHills()).
+  double maxGrade = 0.0;
   double objectCellSize = 4.0;  ///< Cell of the object grid.
 };
+
+/// Layout of the open road: long roads through open land with little beside them; metres.
+struct OpenRoadParams {
+  /// The roads run along the sides of this rectangle (and 30 m beyond its corners); the drive
+  /// goes round it counter-clockwise from the middle of its south side, heading east, so that
+  /// its first 585 m are one straight.
+  Eigen::Vector2d loopMin{-600.0, 0.0}, loopMax{600.0, 150.0};
+  double cruise = 15.0;         ///< Speed of the drive on the straights [m/s].
+  double poleSpacing = 60.0;    ///< Mean gap between the poles on the roads' outer side.
+  double copseSpacing = 200.0;  ///< Mean gap between clumps of trees and bushes off the road.
+  double gridMargin = 140.0;    ///< Ground tabulated this far around the rectangle.
+  double hillAmplitude = 1.2;   ///< As WorldParams::hillAmplitude: flat-ish land.
+  double maxGrade = 0.0;        ///< As WorldParams::maxGrade.
+  double objectCellSize = 8.0;  ///< Cell of the object grid.
+};
+
+/**
+ * Hill waves whose grade, with the road's crown added, stays within `maxGrade` everywhere:
+ * 80 % of the grade budget goes to a wave along x of 48-62 m wavelength (each of the town
+ * loop's east-west straights spans half a wavelength, so the drive climbs and descends at
+ * about 0.75 maxGrade between crests and dips), 15 % to one along y and the rest to a short
+ * wave in a random direction. Deterministic per seed.
+ * @throws std::invalid_argument if maxGrade does not exceed the crown's own grade.
+ */
+std::vector<HillWave> steepHills(double maxGrade, const TerrainParams& ground, uint32_t seed);
 
 /**
  * Ground, static objects (buildings, trees, poles, bushes, parked cars) and moving cars.
@@ -38,6 +66,13 @@ class ProceduralWorld {
 
   /// The procedural town for `seed`.
   static ProceduralWorld generate(uint32_t seed, const WorldParams& params = WorldParams());
+  /**
+   * The open road for `seed`: the roads (with kerbs) through grass, a pole every ~60 m on
+   * their outer side and a clump of trees and bushes every ~200 m, 10-40 m off the road; no
+   * buildings, no parked cars, no traffic. Scans there constrain little along the road.
+   */
+  static ProceduralWorld generateOpenRoad(uint32_t seed,
+                                          const OpenRoadParams& params = OpenRoadParams());
 
   const Terrain& terrain() const { return terrain_; }
   const ObjectGrid& objects() const { return objects_; }

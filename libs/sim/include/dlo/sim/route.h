@@ -4,6 +4,8 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "dlo/sim/stop_schedule.h"
+
 namespace dlo::sim {
 
 /// Planar state of the vehicle on its route.
@@ -62,6 +64,12 @@ class Route {
   static Route patrol(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, double speed,
                       double yawRateDeg, double accel = 1.0);
 
+  /**
+   * Hard stops on the drive (see StopSchedule) up to `until` [s]; replaces any set before.
+   * @throws std::invalid_argument for parameters that are not positive and finite.
+   */
+  void setStops(const StopParams& params, double until);
+
   /// State at time t >= 0 [s].
   RouteState stateAt(double t) const;
   /// Length of one lap [m].
@@ -78,6 +86,9 @@ class Route {
   };
   void geometryAt(double s, Eigen::Vector2d& position, double& heading, double& curvature) const;
   void buildSpeedProfile(const SpeedLimits& limits);
+  /// State at route time tau, without the stops.
+  RouteState routeStateAt(double tau) const;
+  StopSchedule stops_;
 
   /// One piece of a patrol: a straight drive or a turn on the spot.
   struct Piece {
