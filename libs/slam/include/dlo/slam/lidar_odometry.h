@@ -138,6 +138,8 @@ class LidarOdometry {
   Vector6d limitAcceleration(const Vector6d& measured, double dt) const;
   /// Replaces a rejected registration by the prediction.
   void keepPrediction(const Eigen::Isometry3d& predicted, AlignmentResult& r) const;
+  /// The part of a measured body twist carried to the next scan (prediction and deskewing).
+  Vector6d carried(const Vector6d& v) const;
   /// odometry.levelling applies: on, with solver.dof = 3.
   bool levelling() const;
   /// `pose` (odometry frame) with its z, roll and pitch measured from the current scan's ground
