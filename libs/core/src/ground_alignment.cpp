@@ -20,7 +20,11 @@ constexpr int kFirstIterations = 2;
 /// more pass).
 constexpr double kMaxGroundGradient = 0.35;
 constexpr int kMinCells = 30;
-constexpr int kIterations = 8;
+constexpr int kIterations = 6;
+/// Converged: a step below these (the scan-to-scan noise of levelled poses is about 1 mm and
+/// 0.01-0.02 deg).
+constexpr double kMinStepHeight = 5e-4;  ///< metres
+constexpr double kMinStepTilt = 5e-5;    ///< radians
 /// Smallest over largest eigenvalue (rotations at rotation_scale) of a direction still measured.
 constexpr double kObservableRatio = 0.02;
 /// A correction beyond these is no measurement of the ground (a reference whose ground is
@@ -69,7 +73,11 @@ GroundAlignment alignToGround(const HeightGrid& reference, const std::vector<Gro
   // Tilts turn about the vehicle's position (T's translation, which they then keep): about the
   // reference's origin they would move the vehicle sideways by their lever arm.
   Eigen::Vector3d centre = guess.translation();
-  thread_local std::vector<double> residuals;
+  // Scratch kept across calls, used through a plain pointer: a thread_local name in the loop
+  // costs a __tls_get_addr call at every cell (see cell_selection.cpp).
+  thread_local std::vector<double> residual_scratch;
+  residual_scratch.resize(cells.size());
+  double* const residuals = residual_scratch.data();
   // The residual of each cell at T, or false where the reference has no ground there.
   const auto residual = [&](const GroundCell& cell, const Eigen::Isometry3d& at, double& e,
                             Eigen::Vector3d& J) {
@@ -86,15 +94,15 @@ GroundAlignment alignToGround(const HeightGrid& reference, const std::vector<Gro
   };
   // A robust start: the median height error, which a guess a few decimetres off (longer than
   // the kernel) would otherwise leave to the outlier cut.
-  residuals.clear();
   double e;
   Eigen::Vector3d J;
+  size_t found = 0;
   for (const GroundCell& cell : cells) {
-    if (residual(cell, T, e, J)) residuals.push_back(e);
+    if (residual(cell, T, e, J)) residuals[found++] = e;
   }
-  if (static_cast<int>(residuals.size()) < kMinCells) return out;
-  const auto mid = residuals.begin() + static_cast<std::ptrdiff_t>(residuals.size() / 2);
-  std::nth_element(residuals.begin(), mid, residuals.end());
+  if (static_cast<int>(found) < kMinCells) return out;
+  double* const mid = residuals + found / 2;
+  std::nth_element(residuals, mid, residuals + found);
   T.translation().z() += *mid;
   centre = T.translation();
 
@@ -110,8 +118,10 @@ GroundAlignment alignToGround(const HeightGrid& reference, const std::vector<Gro
       const double ae = std::abs(e);
       if (ae > (it < kFirstIterations ? kFirstMaxResidual : kMaxResidual)) continue;
       const double w = ae <= kHuberDelta ? 1.0 : kHuberDelta / ae;
-      H.selfadjointView<Eigen::Upper>().rankUpdate(J, w);
-      b += w * e * J;
+      for (int i = 0; i < 3; ++i) {
+        for (int j = i; j < 3; ++j) H(i, j) += w * J(i) * J(j);
+        b(i) += w * e * J(i);
+      }
       sq += e * e;
       ++n;
     }
@@ -137,7 +147,7 @@ GroundAlignment alignToGround(const HeightGrid& reference, const std::vector<Gro
     const Eigen::Vector3d d = scale.asDiagonal() * dy;
     T = perturbed(T, centre, d);
     centre = T.translation();
-    if (std::abs(d(0)) < 1e-4 && d.tail<2>().norm() < 1e-5) break;
+    if (std::abs(d(0)) < kMinStepHeight && d.tail<2>().norm() < kMinStepTilt) break;
   }
   // What the ground cannot observe returns to the guess.
   const Eigen::AngleAxisd turn(T.linear() * guess.linear().transpose());

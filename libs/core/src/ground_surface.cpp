@@ -13,6 +13,8 @@ constexpr double kUnit = 10.0;
 /// Quantile of the nearest cells' heights that starts the ground: most cells near a vehicle are
 /// ground, and what is not (cars, walls, bushes) lies above it.
 constexpr double kStartQuantile = 0.25;
+/// Rows and columns of the grid taken (see fitGroundSurface()).
+constexpr int kStride = 3;
 
 /// One pass of the fit: the cells within `range` metres of the origin and `band` metres of the
 /// current surface, and the terms fitted to them (3: a plane, 6: a quadratic).
@@ -32,26 +34,34 @@ Eigen::Matrix<double, 6, 1> terms(double x, double y) {
 /// Least squares of the cells of `pass` against the surface `c`; returns false (and leaves `c`)
 /// when too few cells take part or the system is singular.
 bool refit(const std::vector<GroundCell>& cells, const Pass& pass, Eigen::Matrix<double, 6, 1>& c) {
-  Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
-  Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+  // The upper triangle summed by hand: Eigen's rankUpdate() of a 6-vector is a call per cell.
+  double A[6][6] = {};
+  double b[6] = {};
   const double r2 = pass.range * pass.range;
+  const int k = pass.terms;
   int n = 0;
   for (const GroundCell& g : cells) {
     const double x = g.x, y = g.y;
     if (x * x + y * y > r2) continue;
     const Eigen::Matrix<double, 6, 1> t = terms(x, y);
     if (std::abs(g.h - c.dot(t)) > pass.band) continue;
-    A.selfadjointView<Eigen::Upper>().rankUpdate(t);
-    b += g.h * t;
+    for (int i = 0; i < k; ++i) {
+      for (int j = i; j < k; ++j) A[i][j] += t(i) * t(j);
+      b[i] += g.h * t(i);
+    }
     ++n;
   }
-  const int k = pass.terms;
   // A few times more cells than terms, spread enough to hold each of them.
   if (n < 5 * k) return false;
-  const Eigen::MatrixXd Ak = A.topLeftCorner(k, k).selfadjointView<Eigen::Upper>();
+  Eigen::MatrixXd Ak(k, k);
+  Eigen::VectorXd bk(k);
+  for (int i = 0; i < k; ++i) {
+    bk(i) = b[i];
+    for (int j = i; j < k; ++j) Ak(i, j) = Ak(j, i) = A[i][j];
+  }
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(Ak);
   if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-9)) return false;
-  const Eigen::VectorXd x = ldlt.solve(b.head(k));
+  const Eigen::VectorXd x = ldlt.solve(bk);
   if (!x.allFinite()) return false;
   c.setZero();
   c.head(k) = x;
@@ -72,10 +82,12 @@ void fitGroundSurface(const HeightGrid& grid, const GroundSurfaceParams& params,
   const GridGeometry& g = grid.geometry();
   const double r_min2 = params.min_range * params.min_range;
   const double r_max2 = params.max_range * params.max_range;
-  for (int row = 0; row < g.rows; ++row) {
+  // Every third row and column (cells 1.2 m apart at 0.4 m): the ground is smooth at that
+  // scale, and a ninth of the cells fit it nine times faster.
+  for (int row = 0; row < g.rows; row += kStride) {
     const double y = g.cellCentreY(row);
     if (y * y > r_max2) continue;
-    for (int col = 0; col < g.cols; ++col) {
+    for (int col = 0; col < g.cols; col += kStride) {
       if (!grid.isValid(row, col)) continue;
       const double x = g.cellCentreX(col);
       const double d2 = x * x + y * y;
@@ -91,20 +103,22 @@ void fitGroundSurface(const HeightGrid& grid, const GroundSurfaceParams& params,
   const Pass passes[] = {
       {near, 0.5, 3},
       {0.7 * params.max_range, 0.3, 6},
-      {params.max_range, 2.0 * params.band, 6},
       {params.max_range, params.band, 6},
   };
-  thread_local std::vector<float> heights;
-  heights.clear();
+  // Scratch kept across calls, used through a plain pointer (see alignToGround()).
+  thread_local std::vector<float> height_scratch;
+  height_scratch.resize(out.cells.size());
+  float* const heights = height_scratch.data();
+  size_t nearby = 0;
   for (const GroundCell& c : out.cells) {
-    if (c.x * c.x + c.y * c.y <= near * near) heights.push_back(c.h);
+    if (c.x * c.x + c.y * c.y <= near * near) heights[nearby++] = c.h;
   }
-  if (static_cast<int>(heights.size()) < params.min_cells) {
+  if (static_cast<int>(nearby) < params.min_cells) {
     out.cells.clear();
     return;
   }
-  const auto q = heights.begin() + static_cast<std::ptrdiff_t>(kStartQuantile * heights.size());
-  std::nth_element(heights.begin(), q, heights.end());
+  float* const q = heights + static_cast<size_t>(kStartQuantile * nearby);
+  std::nth_element(heights, q, heights + nearby);
   Eigen::Matrix<double, 6, 1> c = Eigen::Matrix<double, 6, 1>::Zero();
   c(0) = *q;
   for (const Pass& pass : passes) {

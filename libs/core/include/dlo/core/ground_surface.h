@@ -27,7 +27,7 @@ struct GroundSurfaceParams {
   int min_cells = 50;  ///< fewer ground cells than this: no ground found
   /// Ground cells kept, thinned evenly beyond it: a few hundred hold z, roll and pitch to
   /// millimetres and milliradians, and each costs a sample of the reference.
-  int max_cells = 1500;
+  int max_cells = 400;
 };
 
 /// The ground of one grid, z = c0 + c1 x + c2 y + c3 x^2 + c4 x y + c5 y^2 (x, y in units of
