@@ -13,8 +13,9 @@ constexpr double kUnit = 10.0;
 /// Quantile of the nearest cells' heights that starts the ground: most cells near a vehicle are
 /// ground, and what is not (cars, walls, bushes) lies above it.
 constexpr double kStartQuantile = 0.25;
-/// Rows and columns of the grid taken (see fitGroundSurface()).
-constexpr int kStride = 3;
+/// Cells the surface is fitted to, at most: the ground is smooth at the scale of the spacing
+/// this leaves (about 1 m within 20 m), and the passes cost in proportion.
+constexpr size_t kMaxCandidates = 1000;
 
 /// One pass of the fit: the cells within `range` metres of the origin and `band` metres of the
 /// current surface, and the terms fitted to them (3: a plane, 6: a quadratic).
@@ -68,6 +69,14 @@ bool refit(const std::vector<GroundCell>& cells, const Pass& pass, Eigen::Matrix
   return true;
 }
 
+/// Keeps every (size / keep)-th cell, in fixed point: deterministic and even over the grid.
+void thinEvenly(std::vector<GroundCell>& cells, size_t keep) {
+  const size_t n = cells.size();
+  if (n <= keep) return;
+  for (size_t i = 0; i < keep; ++i) cells[i] = cells[i * n / keep];
+  cells.resize(keep);
+}
+
 }  // namespace
 
 double GroundSurface::heightAt(double x, double y) const {
@@ -82,12 +91,10 @@ void fitGroundSurface(const HeightGrid& grid, const GroundSurfaceParams& params,
   const GridGeometry& g = grid.geometry();
   const double r_min2 = params.min_range * params.min_range;
   const double r_max2 = params.max_range * params.max_range;
-  // Every third row and column (cells 1.2 m apart at 0.4 m): the ground is smooth at that
-  // scale, and a ninth of the cells fit it nine times faster.
-  for (int row = 0; row < g.rows; row += kStride) {
+  for (int row = 0; row < g.rows; ++row) {
     const double y = g.cellCentreY(row);
     if (y * y > r_max2) continue;
-    for (int col = 0; col < g.cols; col += kStride) {
+    for (int col = 0; col < g.cols; ++col) {
       if (!grid.isValid(row, col)) continue;
       const double x = g.cellCentreX(col);
       const double d2 = x * x + y * y;
@@ -96,6 +103,7 @@ void fitGroundSurface(const HeightGrid& grid, const GroundSurfaceParams& params,
           GroundCell{static_cast<float>(x), static_cast<float>(y), grid.height(row, col)});
     }
   }
+  thinEvenly(out.cells, kMaxCandidates);
   // The passes widen the area and tighten the band: near the vehicle the ground is close to a
   // plane whatever its shape farther out; a crest or dip bends it by up to half a metre at
   // 10 m on a 20 % grade change, which the quadratic then follows outwards.
@@ -133,13 +141,7 @@ void fitGroundSurface(const HeightGrid& grid, const GroundSurfaceParams& params,
     return std::abs(cell.h - c.dot(terms(cell.x, cell.y))) > band;
   });
   out.cells.erase(off, out.cells.end());
-  const size_t keep = static_cast<size_t>(params.max_cells);
-  if (out.cells.size() > keep) {
-    // Every (size / keep)-th cell, in fixed point: deterministic and even over the grid.
-    const size_t n = out.cells.size();
-    for (size_t i = 0; i < keep; ++i) out.cells[i] = out.cells[i * n / keep];
-    out.cells.resize(keep);
-  }
+  thinEvenly(out.cells, static_cast<size_t>(params.max_cells));
   out.coefficients = c;
   out.found = static_cast<int>(out.cells.size()) >= params.min_cells;
   if (!out.found) out.cells.clear();
