@@ -64,6 +64,19 @@ Eigen::Isometry3d perturbed(const Eigen::Isometry3d& T, const Eigen::Vector3d& c
 
 }  // namespace
 
+size_t groundLevel(const HeightFrame& frame) {
+  constexpr double kGroundCell = 0.4;  // metres
+  const std::vector<FrameLevel>& levels = frame.levels();
+  const auto off = [&](size_t i) {
+    return std::abs(std::log(levels[i].grid.resolution() / kGroundCell));
+  };
+  size_t best = 0;
+  for (size_t k = 1; k < levels.size(); ++k) {
+    if (off(k) < off(best)) best = k;
+  }
+  return best;
+}
+
 GroundAlignment alignToGround(const HeightGrid& reference, const std::vector<GroundCell>& cells,
                               const Eigen::Isometry3d& guess, double rotation_scale) {
   GroundAlignment out;

@@ -418,24 +418,11 @@ bool LidarOdometry::levelling() const {
   return params_.odometry.levelling == 1 && params_.registration.solver.dof == 3;
 }
 
-size_t LidarOdometry::groundLevel() const {
-  constexpr double kGroundCell = 0.4;  // metres
-  const std::vector<FrameLevel>& levels = current_.levels();
-  size_t best = 0;
-  for (size_t k = 1; k < levels.size(); ++k) {
-    const auto off = [&](size_t i) {
-      return std::abs(std::log(levels[i].grid.resolution() / kGroundCell));
-    };
-    if (off(k) < off(best)) best = k;
-  }
-  return best;
-}
-
 Eigen::Isometry3d LidarOdometry::onGround(const Eigen::Isometry3d& pose, OdometryStep& step) {
   step.levelled = false;
   if (!levelling() || !has_reference_ || current_.empty()) return pose;
   Stopwatch watch;
-  const size_t k = groundLevel();
+  const size_t k = groundLevel(current_);
   if (!ground_fitted_) {
     fitGroundSurface(current_.levels()[k].grid, GroundSurfaceParams(), ground_);
     ground_fitted_ = true;

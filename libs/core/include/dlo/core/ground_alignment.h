@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "dlo/core/ground_surface.h"
+#include "dlo/core/height_frame.h"
 #include "dlo/core/height_grid.h"
 
 namespace dlo {
@@ -33,6 +34,11 @@ struct GroundAlignment {
 /// SolverParams::rotation_scale. Where too few cells find the reference, the system is
 /// ill-conditioned (a strip of ground constrains no roll across it: that direction keeps the
 /// guess) or the correction is implausibly large, what is not measured stays at the guess.
+/// The level of `frame` whose cells are closest to 0.4 m, where the ground is fitted and aligned:
+/// wide enough that a cell 20 m away holds a few ground points, fine enough that few cells mix
+/// ground and obstacles. 0 for a frame without levels.
+size_t groundLevel(const HeightFrame& frame);
+
 GroundAlignment alignToGround(const HeightGrid& reference, const std::vector<GroundCell>& cells,
                               const Eigen::Isometry3d& guess, double rotation_scale);
 

@@ -147,9 +147,6 @@ class LidarOdometry {
   /// where levelling is off, there is no reference, or no ground to measure. The ground is
   /// fitted once per build of the current frame. Sets step.levelled and adds to ground_ms.
   Eigen::Isometry3d onGround(const Eigen::Isometry3d& pose, OdometryStep& step);
-  /// The pyramid level whose cells are closest to 0.4 m: wide enough that a cell at 20 m holds
-  /// a few ground points, fine enough that few mix ground and obstacles.
-  size_t groundLevel() const;
   /// The current scan has enough selected cells (solver.min_cells) to become a keyframe.
   bool hasStructure() const;
   bool needsKeyframe(const Eigen::Isometry3d& pose, const AlignmentResult& r) const;
