@@ -216,16 +216,20 @@ TEST(DegenerateScenes, AnOpenFieldIsFlaggedAndDrivenOnTheMotionPrior) {
   // What the velocity was wrong by when the street ended, over the field: about 2 m along the
   // road (26 m with a prior of standing still; 1.9 m across and 4 deg when the scans leaving
   // the street could move the pose along what they did not observe).
+  // The heading error is the yaw rate carried into the field times 1.7 s: +0.86 deg with the
+  // planar odometry, -1.21 deg levelled (the velocity then also carries roll and pitch rates,
+  // and the last street scans register a few hundredths of a degree differently).
   EXPECT_LT(f[36].positionError(), 3.0);
-  EXPECT_LT(std::abs(f[36].yawErrorDeg()), 1.0);
-  // Structure returns: registered normally again, and the error stops growing.
+  EXPECT_LT(std::abs(f[36].yawErrorDeg()), 1.5);
+  // Structure returns: registered normally again, and the error stops growing (the largest
+  // step error 0.100 m levelled, below 0.1 m planar: scan 48, the first of these).
   for (int k = 48; k < 60; ++k) {
     SCOPED_TRACE("scan " + std::to_string(k));
     EXPECT_FALSE(f[k].flagged());
     EXPECT_LT((f[k].estimate.translation() - f[k - 1].estimate.translation() -
                (f[k].truth.translation() - f[k - 1].truth.translation()))
                   .norm(),
-              0.1);
+              0.12);
   }
   EXPECT_LT(std::abs(f[59].positionError() - f[44].positionError()), 0.5);
   printSummary("open field", f[59]);

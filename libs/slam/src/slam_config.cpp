@@ -19,6 +19,11 @@ std::vector<ParamField<SlamParams>> fields() {
                  "what each scan is registered against: 0 = previous scan (the paper's "
                  "frame-to-frame), 1 = last keyframe, 2 = local map of recent keyframes, 3 = "
                  "world-fixed local height map of the last registered scans, updated every scan"),
+      paramField("odometry", "levelling", &S::odometry, &O::levelling,
+                 "1: z, roll and pitch of each scan measured from its ground laid on the "
+                 "reference's ground, x, y and yaw registered by solver.dof = 3 (a 3D "
+                 "trajectory); 0: z, roll and pitch kept as predicted (the paper's planar "
+                 "3-DoF); ignored with solver.dof = 6, which solves all six jointly"),
       paramField("odometry", "local_map_keyframes", &S::odometry, &O::local_map_keyframes,
                  "keyframes fused into the local map (reference = 2)"),
       paramField("odometry", "local_map_scans", &S::odometry, &O::local_map_scans,

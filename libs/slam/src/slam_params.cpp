@@ -10,6 +10,8 @@ std::string SlamParams::validate() const {
   if (o.reference < 0 || o.reference > 3)
     return outOfRange("odometry.reference", o.reference,
                       "0 (frame), 1 (keyframe), 2 (keyframe map) or 3 (scan map)");
+  if (o.levelling != 0 && o.levelling != 1)
+    return outOfRange("odometry.levelling", o.levelling, "0 or 1");
   if (o.local_map_keyframes < 1 || o.local_map_keyframes > 50)
     return outOfRange("odometry.local_map_keyframes", o.local_map_keyframes, "1..50");
   if (o.local_map_scans < 1 || o.local_map_scans > 100)

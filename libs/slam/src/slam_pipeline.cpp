@@ -34,6 +34,7 @@ void SlamPipeline::process(double time, const PointCloud& points,
   if (step.starts > 1) ++counters_.multi_start_frames;
   if (step.alternative) ++counters_.alternative_frames;
   if (step.rejected) ++counters_.prediction_kept_frames;
+  if (step.levelled) ++counters_.levelled_frames;
   switch (step.point_times) {
     case PointTimeSource::kMeasured:
       ++counters_.times_measured;
@@ -79,6 +80,7 @@ void SlamPipeline::process(double time, const PointCloud& points,
   timings_.solve.push_back(step.times.registration.solve_ms);
   timings_.keyframe.push_back(step.times.keyframe_ms);
   timings_.local_map.push_back(step.times.local_map_ms);
+  timings_.ground.push_back(step.times.ground_ms);
   timings_.loop.push_back(loop_ms);
   if (counters_.frames == 1 || counters_.frames % kMemorySampleInterval == 0) sampleMemory();
 }

@@ -111,8 +111,8 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
   o << "  \"stages_ms\": {\"deskew\": " << stats(t.deskew) << ", \"grid\": " << stats(t.grid)
     << ", \"gradients\": " << stats(t.gradients) << ", \"selection\": " << stats(t.selection)
     << ", \"solve\": " << stats(t.solve) << ", \"keyframe\": " << stats(t.keyframe)
-    << ", \"local_map\": " << stats(t.local_map) << ", \"loop_closure\": " << stats(t.loop)
-    << "},\n";
+    << ", \"local_map\": " << stats(t.local_map) << ", \"ground\": " << stats(t.ground)
+    << ", \"loop_closure\": " << stats(t.loop) << "},\n";
   o << "  \"loop_closures\": {\"accepted\": " << c.loops_accepted
     << ", \"rejected\": " << c.loops_rejected << ", \"optimisations\": " << c.optimisations
     << ", \"already_consistent\": " << c.loops_consistent << ", \"tracked\": " << c.loops_tracked
@@ -139,6 +139,15 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
     << ", \"estimated_times_from_point_order\": " << c.times_from_order
     << ", \"estimated_times_from_config\": " << c.times_from_params << ", \"not_deskewed\": "
     << c.frames - c.times_measured - c.times_from_order - c.times_from_params << "},\n";
+  // What the odometry estimates: "3d-levelled" (x, y, yaw registered, z, roll and pitch from
+  // the ground, odometry.levelling), "3-dof" (the paper's planar odometry) or "6-dof" (the
+  // joint solve, solver.dof = 6); and how many scans found a ground to level on.
+  const SlamParams& p = pipeline.params();
+  const char* dof = p.registration.solver.dof == 6 ? "6-dof"
+                    : p.odometry.levelling == 1    ? "3d-levelled"
+                                                   : "3-dof";
+  o << "  \"estimation\": {\"dof\": \"" << dof << "\", \"levelled_frames\": " << c.levelled_frames
+    << "},\n";
   o << "  \"sensor_profile\": {\"name\": " << quoted(profile.name)
     << ", \"chosen_because\": " << quoted(profile.reason) << "},\n";
   o << "  \"empty_frames\": " << c.empty_frames << ",\n";

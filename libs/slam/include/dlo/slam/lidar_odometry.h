@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "dlo/core/direct_aligner.h"
+#include "dlo/core/ground_surface.h"
 #include "dlo/core/height_frame.h"
 #include "dlo/core/local_height_map.h"
 #include "dlo/core/weighted_cloud.h"
@@ -21,7 +22,10 @@ struct OdometryTimes {
   StageTimes registration;    ///< the current frame's build (grid, gradients, selection) + solve
   double keyframe_ms = 0.0;   ///< decimating a new keyframe and rebuilding the reference
   double local_map_ms = 0.0;  ///< reference = 3: adding the scan to the map, new reference
-  double totalMs() const { return deskew_ms + registration.totalMs() + keyframe_ms + local_map_ms; }
+  double ground_ms = 0.0;     ///< odometry.levelling: the ground's fit and its alignments
+  double totalMs() const {
+    return deskew_ms + registration.totalMs() + keyframe_ms + local_map_ms + ground_ms;
+  }
 };
 
 /// Where a scan's per-point times came from.
@@ -50,6 +54,9 @@ struct OdometryStep {
   /// One of the other starts fitted the scan better than the registration from the prediction
   /// and gave the pose.
   bool alternative = false;
+  /// z, roll and pitch of `pose` were measured from the scan's ground (odometry.levelling);
+  /// otherwise they are the prediction's.
+  bool levelled = false;
   /// Where the per-point times used for deskewing came from.
   PointTimeSource point_times = PointTimeSource::kNone;
   bool new_keyframe = false;  ///< this scan became a keyframe
@@ -128,6 +135,15 @@ class LidarOdometry {
   Vector6d limitAcceleration(const Vector6d& measured, double dt) const;
   /// Replaces a rejected registration by the prediction.
   void keepPrediction(const Eigen::Isometry3d& predicted, AlignmentResult& r) const;
+  /// The part of a measured body twist carried to the next scan (prediction and deskewing).
+  Vector6d carried(const Vector6d& v) const;
+  /// odometry.levelling applies: on, with solver.dof = 3.
+  bool levelling() const;
+  /// `pose` (odometry frame) with its z, roll and pitch measured from the current scan's ground
+  /// laid on the reference's ground (dlo::alignToGround), x, y and heading held; `pose` itself
+  /// where levelling is off, there is no reference, or no ground to measure. The ground is
+  /// fitted once per build of the current frame. Sets step.levelled and adds to ground_ms.
+  Eigen::Isometry3d onGround(const Eigen::Isometry3d& pose, OdometryStep& step);
   /// The current scan has enough selected cells (solver.min_cells) to become a keyframe.
   bool hasStructure() const;
   bool needsKeyframe(const Eigen::Isometry3d& pose, const AlignmentResult& r) const;
@@ -150,9 +166,11 @@ class LidarOdometry {
 
   SlamParams params_;
   DirectAligner aligner_;
-  HeightFrame current_;  ///< reused for every scan
-  PointCloud deskewed_;  ///< reference = 3: the scan deskewed, memory reused for every scan
-  PointCloud near_;      ///< a keyframe's points within map_range, memory reused
+  HeightFrame current_;         ///< reused for every scan
+  GroundSurface ground_;        ///< the current frame's ground, see onGround()
+  bool ground_fitted_ = false;  ///< ground_ is that of current_ as last built
+  PointCloud deskewed_;         ///< reference = 3: the scan deskewed, memory reused for every scan
+  PointCloud near_;             ///< a keyframe's points within map_range, memory reused
   std::vector<float> estimated_times_;  ///< sweepTimes() of scans without times, memory reused
   HeightFrame reference_;               ///< previous scan, last keyframe or local map
   Eigen::Isometry3d reference_pose_ = Eigen::Isometry3d::Identity();  ///< odometry frame

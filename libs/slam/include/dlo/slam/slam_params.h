@@ -16,6 +16,11 @@ struct OdometryParams {
   /// 3 = a world-fixed local height map of the last `local_map_scans` registered scans, updated
   /// every scan (dlo::LocalHeightMap; what sparse sensors need: config/sensors/sparse.ini).
   int reference = 2;
+  /// 1: z, roll and pitch of every scan are measured from its ground (dlo::fitGroundSurface)
+  /// laid on the reference's ground at the registered x, y and heading (dlo::alignToGround),
+  /// with solver.dof = 3 registering x, y and yaw: a 3D trajectory. 0: they stay as predicted,
+  /// the paper's planar 3-DoF odometry. solver.dof = 6 solves all six jointly and ignores this.
+  int levelling = 1;
   int local_map_keyframes = 4;  ///< keyframes fused into the local map (reference = 2)
   /// Registered scans in the local height map (reference = 3). Fewer scans let a wrongly placed
   /// one leave the map sooner: over 20 simulated HDL-32 drives 15 ended 2 above 1 m ATE against

@@ -20,7 +20,8 @@ struct PipelineTimings {
   std::vector<double> solve;
   std::vector<double> keyframe;
   std::vector<double> local_map;
-  std::vector<double> loop;  ///< loop search, verification and graph optimisation
+  std::vector<double> ground;  ///< odometry.levelling: the ground's fit and alignments
+  std::vector<double> loop;    ///< loop search, verification and graph optimisation
 };
 
 /// Counters of a run.
@@ -35,6 +36,8 @@ struct PipelineCounters {
   size_t alternative_frames = 0;
   /// ... and of which the prediction fitted best and was kept (OdometryStep::rejected).
   size_t prediction_kept_frames = 0;
+  /// Scans whose z, roll and pitch were measured from their ground (OdometryStep::levelled).
+  size_t levelled_frames = 0;
   /// Scans by where their per-point times came from (PointTimeSource): measured, estimated
   /// from the azimuths with the start read off the point order or from the sweep_* keys.
   size_t times_measured = 0;
