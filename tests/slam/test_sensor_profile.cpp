@@ -9,7 +9,7 @@
 
 #include "../test_data.h"
 #include "dlo/mrpt/input_error.h"
-#include "dlo/mrpt/kitti_bin.h"
+#include "dlo/mrpt/scan_file.h"
 #include "dlo/sim/procedural_world.h"
 #include "dlo/sim/route.h"
 #include "dlo/sim/sweep_simulator.h"
@@ -101,14 +101,7 @@ TEST(SensorProfiles, TheInputsBeamCountComesFirstThenTheRingsThenThePoints) {
 // origin their elevations blur into each other (no gaps between rings), so the rings are not
 // counted and its 120,000 points pick the dense profile.
 TEST(RingCount, TheRealKittiSweepShowsNoClearRingsAndIsDenseByItsPoints) {
-  mrpt::maps::CPointsMapXYZI map;
-  loadKittiBinXYZI(test::sharedData("kitti_00_000000.bin.gz"), map);
-  PointCloud points;
-  for (size_t i = 0; i < map.size(); ++i) {
-    float x, y, z;
-    map.getPointFast(i, x, y, z);
-    points.emplace_back(x, y, z);
-  }
+  const PointCloud points = loadKittiBin(test::sharedData("kitti_00_000000.bin.gz"));
   const RingEstimate r = estimateRings(points);
   EXPECT_FALSE(r.reliable());
   EXPECT_GT(r.coverage, 0.5);
