@@ -122,9 +122,10 @@ class LidarOdometry {
     AlignmentResult r;
     Eigen::Isometry3d pose;  ///< odometry frame
   };
-  /// Whether answers[best] is to be believed over the prediction: it is well conditioned, fits
-  /// clearly better (10 %) than every other well-conditioned answer, and better than the
-  /// prediction by a margin that grows with its distance from it (a soft prior).
+  /// Whether answers[best] (of the answers that fit within 10 % of the best, the nearest to the
+  /// prediction) is to be believed over the prediction: it is well conditioned and fits better
+  /// than the prediction by a margin that grows with its distance from it (a soft prior), more
+  /// so where another start ended degenerate (a scan that constrains little).
   bool evidenceSupports(const std::vector<Answer>& answers, size_t best,
                         const Eigen::Isometry3d& predicted, double prediction_cost) const;
   /// The larger of the translation and the rotation (as its displacement at
