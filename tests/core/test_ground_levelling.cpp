@@ -154,6 +154,19 @@ TEST_F(GroundLevelling, AlignmentRecoversHeightRollAndPitchThatThePlanarGuessMis
   EXPECT_NEAR((a.pose.translation() - truth.translation()).head<2>().norm(), 0.0, 0.02);
   EXPECT_NEAR(yawPitchRoll(a.pose.linear())(0), yawPitchRoll(truth.linear())(0), 0.1 * kDeg);
   EXPECT_LT(a.rms, 0.03);
+  // The covariance: the height and tilts measured to millimetres and hundredths of a degree
+  // (at the vehicle, where the graph's edge is), x, y and the heading left to the registration.
+  const Eigen::Matrix<double, 6, 6>& c = a.covariance;
+  const Eigen::Vector3d p = a.pose.translation();
+  Eigen::Matrix<double, 6, 6> at_vehicle = Eigen::Matrix<double, 6, 6>::Identity();
+  at_vehicle.topRightCorner<3, 3>() << 0, -p.z(), p.y(), p.z(), 0, -p.x(), -p.y(), p.x(), 0;
+  const Eigen::Matrix<double, 6, 6> v = at_vehicle * c * at_vehicle.transpose();
+  EXPECT_GT(v(2, 2), 0.0);
+  EXPECT_LT(std::sqrt(v(2, 2)), 0.005);
+  EXPECT_LT(std::sqrt(v(3, 3)), 0.05 * kDeg);
+  EXPECT_LT(std::sqrt(v(4, 4)), 0.05 * kDeg);
+  EXPECT_EQ(c(5, 5), 0.0);
+  EXPECT_LT(std::abs(v(0, 0)) + std::abs(v(1, 1)), 1e-8);  // rounding of the lever arm
 }
 
 TEST_F(GroundLevelling, AStripOfGroundKeepsTheRollItCannotSee) {
@@ -178,6 +191,10 @@ TEST_F(GroundLevelling, AStripOfGroundKeepsTheRollItCannotSee) {
   EXPECT_NEAR(a.pose.translation().z(), truth.translation().z(), 0.03);
   EXPECT_NEAR(rollPitch(a.pose)(1), rollPitch(truth)(1), 0.3 * kDeg);
   EXPECT_NEAR(rollPitch(a.pose)(0), wrong_roll, 0.05 * kDeg);
+  // The roll it cannot see is not measured: variance 1e6 in the solve's scaled coordinates,
+  // along a direction that is mostly roll.
+  EXPECT_GT(a.covariance(3, 3), 1e3);
+  EXPECT_GT(a.covariance(3, 3), 10.0 * a.covariance(4, 4));
 }
 
 TEST_F(GroundLevelling, NoGroundKeepsTheGuess) {

@@ -121,6 +121,7 @@ GroundAlignment alignToGround(const HeightGrid& reference, const std::vector<Gro
 
   const Eigen::Vector3d scale(1.0, 1.0 / rotation_scale, 1.0 / rotation_scale);
   Eigen::Matrix3d unobserved = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();  // the last iteration's, scaled
   for (int it = 0; it < kIterations; ++it) {
     Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
     Eigen::Vector3d b = Eigen::Vector3d::Zero();
@@ -147,6 +148,7 @@ GroundAlignment alignToGround(const HeightGrid& reference, const std::vector<Gro
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(Hs);
     const Eigen::Vector3d lambda = es.eigenvalues();
     const Eigen::Vector3d bs = scale.asDiagonal() * b;
+    information = Hs;
     Eigen::Vector3d dy = Eigen::Vector3d::Zero();
     unobserved.setZero();
     for (int i = 0; i < 3; ++i) {
@@ -176,6 +178,29 @@ GroundAlignment alignToGround(const HeightGrid& reference, const std::vector<Gro
     return GroundAlignment{false, guess, out.cells, out.rms};
   }
   T.linear() = Eigen::Quaterniond(T.linear()).normalized().toRotationMatrix();
+  // Covariance of (tz, wx, wy) about the vehicle, in the scaled coordinates of the solve: the
+  // residual variance over the information along what is observed, 1e6 along the rest; then
+  // as a left perturbation about the reference frame's origin: a turn w about the vehicle at c
+  // is the turn w about the origin plus the translation c x w.
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(information);
+  Eigen::Matrix3d cov_scaled = Eigen::Matrix3d::Zero();
+  for (int i = 0; i < 3; ++i) {
+    const auto v = es.eigenvectors().col(i);
+    const bool observed =
+        es.eigenvalues()(i) > kObservableRatio * es.eigenvalues()(2) && es.eigenvalues()(i) > 0.0;
+    cov_scaled += (observed ? out.rms * out.rms / es.eigenvalues()(i) : 1e6) * v * v.transpose();
+  }
+  const Eigen::Matrix3d cov = scale.asDiagonal() * cov_scaled * scale.asDiagonal();
+  const Eigen::Vector3d c = T.translation();
+  Eigen::Matrix<double, 6, 3> M = Eigen::Matrix<double, 6, 3>::Zero();  // (tz, wx, wy) -> xi
+  M(0, 2) = -c.z();                                                     // (c x w).x
+  M(1, 1) = c.z();                                                      // (c x w).y
+  M(2, 0) = 1.0;
+  M(2, 1) = -c.y();
+  M(2, 2) = c.x();
+  M(3, 1) = 1.0;
+  M(4, 2) = 1.0;
+  out.covariance = M * cov * M.transpose();
   out.pose = T;
   out.aligned = true;
   return out;

@@ -19,6 +19,11 @@ struct GroundAlignment {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< current in reference
   int cells = 0;     ///< ground cells that found the reference's ground, at the end
   double rms = 0.0;  ///< RMS height error of those cells, metres
+  /// Covariance of `pose` (aligned only) as a left perturbation in the reference frame, order
+  /// (x, y, z, wx, wy, wz) as AlignmentResult::covariance: what the ground measures (height,
+  /// roll, pitch about the vehicle: rms^2 times the inverse of the Gauss-Newton normal matrix),
+  /// 1e6 along what it cannot observe, zero for x, y and yaw, which it holds.
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
 };
 
 /// Corrects the height, roll and pitch of `guess` (the current grid frame in the reference

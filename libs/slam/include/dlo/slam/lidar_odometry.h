@@ -57,6 +57,8 @@ struct OdometryStep {
   /// z, roll and pitch of `pose` were measured from the scan's ground (odometry.levelling);
   /// otherwise they are the prediction's.
   bool levelled = false;
+  /// With `levelled`: the covariance the ground gave z, roll and pitch (GroundAlignment).
+  Matrix6d ground_covariance = Matrix6d::Zero();
   /// Where the per-point times used for deskewing came from.
   PointTimeSource point_times = PointTimeSource::kNone;
   bool new_keyframe = false;  ///< this scan became a keyframe
