@@ -18,8 +18,8 @@ constexpr double kUnobservedVariance = 1e6;
 /// Two registrations of one scan closer than this fraction of odometry.max_prior_deviation give
 /// the same answer.
 constexpr double kSameAnswer = 0.25;
-/// Where the scan's answers differ, the best is taken if its cost is this fraction below every
-/// other answer's and the prediction's.
+/// Answers whose cost is within this fraction of the best answer's fit the scan alike: the one
+/// nearest the prediction is taken among them (LidarOdometry::decideByEvidence).
 constexpr double kClearMargin = 0.1;
 /// Metres (rotations at solver.rotation_scale): see LidarOdometry::evidenceSupports().
 constexpr double kPriorScale = 2.0;
@@ -118,7 +118,6 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     // height error shifts a registration towards a kerb on one side).
     predicted = onGround(predicted, step);
     const bool prediction_levelled = step.levelled;
-    pose = predicted;
     const Eigen::Isometry3d to_reference = reference_pose_.inverse();
     step.registration = aligner_.align(reference_, current_, to_reference * predicted);
     pose = reference_pose_ * step.registration.pose;
