@@ -535,6 +535,7 @@ void LidarOdometry::redoFirstKeyframe(OdometryStep& step) {
     map.clear();
     const DloParams& reg = params_.registration;
     map.insert(first, last_pose_, reg.grid.min_z, reg.grid.max_z);
+    last_map_position_ = last_pose_.translation().head<2>();
   }
   first_points_ = PointCloud();
   first_times_ = std::vector<float>();
@@ -564,7 +565,14 @@ LocalHeightMap& LidarOdometry::scanMap() {
 void LidarOdometry::updateScanMap(const PointCloud& points, const Eigen::Isometry3d& pose) {
   const DloParams& reg = params_.registration;
   LocalHeightMap& map = scanMap();
-  map.insert(points, pose, reg.grid.min_z, reg.grid.max_z);
+  // Scans taken close together add the same sensor-locked pattern again (see
+  // OdometryParams::local_map_spacing): such a scan only moves the window.
+  const Eigen::Vector2d here = pose.translation().head<2>();
+  if (map.scans() == 0 ||
+      (here - last_map_position_).norm() >= params_.odometry.local_map_spacing) {
+    map.insert(points, pose, reg.grid.min_z, reg.grid.max_z);
+    last_map_position_ = here;
+  }
   // The reference grid is axis-aligned in the odometry frame, its cells the map's own: no
   // resampling, the registration takes the heading into its initial guess.
   reference_pose_ = map.windowPose(pose.translation());

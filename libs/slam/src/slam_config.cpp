@@ -28,6 +28,11 @@ std::vector<ParamField<SlamParams>> fields() {
                  "keyframes fused into the local map (reference = 2)"),
       paramField("odometry", "local_map_scans", &S::odometry, &O::local_map_scans,
                  "registered scans in the local height map (reference = 3)"),
+      paramField("odometry", "local_map_spacing", &S::odometry, &O::local_map_spacing,
+                 "metres; a registered scan joins the local height map (reference = 3) only "
+                 "this far from the last scan that joined it, so that the map's scans are "
+                 "spread out and the pattern of rings that travels with a sparse sensor "
+                 "cancels out; 0: every scan joins"),
       paramField("odometry", "max_prior_deviation", &S::odometry, &O::max_prior_deviation,
                  "metres; a registration farther than this from the constant-velocity "
                  "prediction (rotations counted at solver.rotation_scale) is decided by the "

@@ -16,6 +16,9 @@ std::string SlamParams::validate() const {
     return outOfRange("odometry.local_map_keyframes", o.local_map_keyframes, "1..50");
   if (o.local_map_scans < 1 || o.local_map_scans > 100)
     return outOfRange("odometry.local_map_scans", o.local_map_scans, "1..100");
+  if (!(o.local_map_spacing >= 0.0 && o.local_map_spacing <= 10.0))
+    return outOfRange("odometry.local_map_spacing", o.local_map_spacing,
+                      "[0, 10] metres (0: every scan)");
   if (!(o.max_prior_deviation >= 0.0))
     return outOfRange("odometry.max_prior_deviation", o.max_prior_deviation,
                       ">= 0 metres (0: off)");

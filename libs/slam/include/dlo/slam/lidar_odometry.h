@@ -178,7 +178,8 @@ class LidarOdometry {
   HeightFrame reference_;               ///< previous scan, last keyframe or local map
   Eigen::Isometry3d reference_pose_ = Eigen::Isometry3d::Identity();  ///< odometry frame
   std::deque<RecentKeyframe> recent_;
-  std::optional<LocalHeightMap> scan_map_;  ///< reference = 3, see scanMap()
+  std::optional<LocalHeightMap> scan_map_;                       ///< reference = 3, see scanMap()
+  Eigen::Vector2d last_map_position_ = Eigen::Vector2d::Zero();  ///< of the last scan it took
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d last_keyframe_pose_ = Eigen::Isometry3d::Identity();
   Vector6d velocity_ = Vector6d::Zero();

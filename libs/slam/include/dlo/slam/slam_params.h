@@ -26,6 +26,12 @@ struct OdometryParams {
   /// one leave the map sooner: over 20 simulated HDL-32 drives 15 ended 2 above 1 m ATE against
   /// 5 with 30 (median 0.40 against 0.49 m), over 40 VLP-16 drives 12 against 18.
   int local_map_scans = 15;
+  /// Metres: a registered scan joins the scan map (reference = 3) only this far from the last
+  /// scan that joined it. Each sparse scan's pattern of rings and holes travels with the sensor
+  /// and pulls a registration towards where that scan was taken; scans a few centimetres apart
+  /// (a robot at 1.5 m/s) add the same pattern again, spread over metres they cancel out. 0:
+  /// every registered scan joins.
+  double local_map_spacing = 0.6;
   /// Metres: a registration farther than this from the constant-velocity prediction (rotations
   /// counted as their displacement at solver.rotation_scale) is rejected, the prediction kept
   /// and the scan flagged degenerate; the bound grows by as much with every consecutive
