@@ -163,11 +163,15 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
         build(velocity_);  // the prediction stands: so does the deskewing it implies
         rebuilt();
       }
-    } else if (rejected_run_ >= params_.odometry.max_rejected_scans) {
+    }
+    if (!step.rejected && rejected_run_ >= params_.odometry.max_rejected_scans) {
       // A run of rejections ended by believing the registration again: the jump back makes
       // the next predictions wrong for a while, so the velocity must settle again before the
-      // prediction may reject anything (otherwise the runs repeat; seen on HDL-32 drives).
-      velocity_updates_ = 0;
+      // prediction may reject anything (otherwise the runs repeat; seen on HDL-32 drives). The
+      // velocity measured before the run still limits how fast the next ones change: a wrong
+      // jump believed here (34 deg on a simulated VLP-16 drive) otherwise became a velocity of
+      // -215 deg/s and 35 m/s within five scans, and the drive was lost.
+      settled_updates_ = 0;
       // The scan map may be what went wrong (a bad scan inserted before the run): it restarts
       // from this scan rather than keep pulling the next ones back.
       if (scan_map_) scan_map_->clear();
@@ -211,6 +215,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
         carried(logSE3(from.inverse() * pose) / (two ? time - before_last_time_ : dt));
     velocity_ = velocity_updates_ >= kSettledVelocityUpdates ? limitAcceleration(v, dt) : v;
     ++velocity_updates_;
+    ++settled_updates_;
   }
   if (frames_ == 1 && !first_points_.empty()) redoFirstKeyframe(step);
 
@@ -381,7 +386,7 @@ bool LidarOdometry::disagrees(const Eigen::Isometry3d& predicted,
   // Only against a velocity measured past the start (whose first scans, registered without a
   // velocity or against an undeskewed scan, legitimately jump by 0.3 m), and not for ever:
   // after a run of rejections it is the prediction that has probably gone wrong.
-  if (!(o.max_prior_deviation > 0.0) || velocity_updates_ < kSettledVelocityUpdates ||
+  if (!(o.max_prior_deviation > 0.0) || settled_updates_ < kSettledVelocityUpdates ||
       rejected_run_ >= o.max_rejected_scans) {
     return false;
   }

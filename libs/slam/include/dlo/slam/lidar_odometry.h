@@ -192,7 +192,10 @@ class LidarOdometry {
   double before_last_time_ = 0.0;
   size_t frames_ = 0;
   size_t velocity_updates_ = 0;  ///< scans the velocity was measured from
-  int rejected_run_ = 0;         ///< consecutive rejected registrations
+  /// Velocity measurements since the start or since a run of rejections ended: the prediction
+  /// may reject a registration only after kSettledVelocityUpdates of them (disagrees()).
+  size_t settled_updates_ = 0;
+  int rejected_run_ = 0;  ///< consecutive rejected registrations
   bool has_reference_ = false;
 };
 
