@@ -42,7 +42,8 @@ std::vector<ParamField<SlamParams>> fields() {
                  "scan where the prediction was kept (a quarter as much for rotations); 0: off"),
       paramField("odometry", "max_acceleration", &S::odometry, &O::max_acceleration,
                  "m/s^2; the velocity carried to the next scan changes by at most this per "
-                 "second; 0: no limit"),
+                 "second, unless the scan disagreed with the prediction and its registration "
+                 "halved the prediction's cost; 0: no limit"),
       paramField("odometry", "max_yaw_acceleration", &S::odometry, &O::max_yaw_acceleration,
                  "deg/s^2; likewise for the yaw rate; 0: no limit"),
       paramField("odometry", "max_rejected_scans", &S::odometry, &O::max_rejected_scans,

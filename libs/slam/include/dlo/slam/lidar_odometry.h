@@ -54,6 +54,10 @@ struct OdometryStep {
   /// One of the other starts fitted the scan better than the registration from the prediction
   /// and gave the pose.
   bool alternative = false;
+  /// The pose taken where the registration disagreed with the prediction fitted the scan with
+  /// at most half the prediction's cost: the velocity is then measured without the
+  /// odometry.max_acceleration and max_yaw_acceleration limits.
+  bool convincing = false;
   /// z, roll and pitch of `pose` were measured from the scan's ground (odometry.levelling);
   /// otherwise they are the prediction's.
   bool levelled = false;

@@ -38,7 +38,8 @@ struct OdometryParams {
   /// rejection (the prediction ages), a quarter as much for rotations; 0 disables.
   double max_prior_deviation = 0.3;
   /// m/s^2: the velocity carried to the next scan changes by at most this per second (a car
-  /// brakes at up to about 10); 0: no limit.
+  /// brakes at up to about 10), unless the scan disagreed with the prediction and its
+  /// registration halved the prediction's cost (OdometryStep::convincing); 0: no limit.
   double max_acceleration = 10.0;
   /// deg/s^2: likewise for the yaw rate (entering a 10 m radius turn at 8 m/s takes about 50);
   /// 0: no limit.
