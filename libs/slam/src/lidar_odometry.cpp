@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Eigenvalues>
+
 #include "dlo/core/deskew.h"
 #include "dlo/core/ground_alignment.h"
 #include "dlo/core/sweep_timing.h"
@@ -35,8 +37,45 @@ Vector6d planar(Vector6d v) {
   v(2) = v(3) = v(4) = 0.0;
   return v;
 }
+/// Variance above which a direction of a registration's covariance is one it could not observe
+/// (DirectAligner gives those kUnobservedVariance).
+constexpr double kUnobservedThreshold = 1e5;
+/// Finest cells the prediction's uncertainty (two standard deviations) must span along an
+/// unobserved direction before LidarOdometry::searchUnobserved searches it: the coarsest level's
+/// cell, within whose basin the registration finds the structure from the prediction itself.
+constexpr double kSearchBasin = 8.0;
+/// Cell residuals the grid of LidarOdometry::searchUnobserved may evaluate in all (about a
+/// millisecond), and the poses it has at least.
+constexpr double kSearchResiduals = 4e5;
+constexpr double kMinSearchPoses = 81;
+/// Standard deviation of the yaw rate before any is measured, deg/s.
+constexpr double kInitialYawRateSigma = 45.0;
 /// Velocity measurements before the constant-velocity prediction is trusted to reject a scan.
 constexpr size_t kSettledVelocityUpdates = 5;
+
+/// The planar part (x, y, yaw scaled by `rs`) of a left perturbation of `pose` (the current
+/// scan in the reference, as a registration's covariance has it) as a perturbation in the
+/// vehicle's own frame: exp(xi) pose = pose exp(Ad(pose^-1) xi).
+Eigen::Matrix3d leftToBody(const Eigen::Isometry3d& pose, double rs) {
+  const double yaw = std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
+  const Eigen::Matrix2d rt = Eigen::Rotation2Dd(yaw).toRotationMatrix().transpose();
+  const Eigen::Vector2d t = pose.translation().head<2>();
+  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+  a.topLeftCorner<2, 2>() = rt;
+  a.topRightCorner<2, 1>() = rt * Eigen::Vector2d(-t.y(), t.x()) / rs;
+  a(2, 2) = 1.0;
+  return a;
+}
+
+/// The x, y, yaw block of a 6 x 6 twist covariance, yaw scaled to metres by `rs`.
+Eigen::Matrix3d planarScaled(const Matrix6d& cov, double rs) {
+  constexpr int kIdx[3] = {0, 1, 5};
+  Eigen::Matrix3d c;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      c(i, j) = cov(kIdx[i], kIdx[j]) * (i == 2 ? rs : 1.0) * (j == 2 ? rs : 1.0);
+  return c;
+}
 
 /// Points within `range` metres (horizontally) of the vehicle, what a keyframe keeps, into
 /// `out`: moved by `motion` if it fits them, in the same pass (a deskewed copy of the whole
@@ -77,6 +116,17 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   // Constant velocity: the motion of the last interval, repeated.
   Eigen::Isometry3d predicted =
       dt > 0.0 && dt < 1.0 ? last_pose_ * expSE3(velocity_ * dt) : last_pose_;
+  if (frames_ == 0) {
+    // Nothing is known of the velocity yet: the vehicle may be moving at any speed up to
+    // odometry.max_speed (two standard deviations).
+    const double rs = reg.solver.rotation_scale;
+    const double v = 0.5 * params_.odometry.max_speed;
+    const double w = kInitialYawRateSigma * kDeg * rs;
+    motion_cov_.setZero();
+    motion_cov_.diagonal().tail<3>() << v * v, v * v, w * w;
+  } else if (dt > 0.0) {
+    predictMotionCovariance(std::min(dt, 1.0));
+  }
 
   // With the scan map (reference = 3) every sweep has two readers, its grid and the map: it is
   // deskewed once, into a buffer kept across scans (applying the motion in both costs more).
@@ -95,8 +145,10 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
       params_.odometry.reference == 0 ? FrameUse::kCurrentAndReference : FrameUse::kCurrentOnly;
   // The current frame, deskewed with the body twist `v`; the deskewing's time (the motion
   // table, and the copy for the scan map) is added to deskew_ms.
+  Vector6d deskew_velocity = Vector6d::Zero();  // what the current frame was deskewed with
   const auto build = [&](const Vector6d& v) {
     Stopwatch w;
+    deskew_velocity = deskew ? v : Vector6d::Zero();
     if (deskew) motion = SweepMotion(times, v);
     if (copy) dlo::deskew(points, motion, deskewed_);
     cloud_ptr = copy ? &deskewed_ : &points;
@@ -164,6 +216,11 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
         rebuilt();
       }
     }
+    if (!step.rejected && step.starts == 1 && step.registration.degenerate && dt > 0.0 &&
+        dt < 1.0) {
+      pose = searchUnobserved(pose, dt, step);
+    }
+    updateMotionCovariance(step.registration);
     if (!step.rejected && rejected_run_ >= params_.odometry.max_rejected_scans) {
       // A run of rejections ended by believing the registration again: the jump back makes
       // the next predictions wrong for a while, so the velocity must settle again before the
@@ -218,9 +275,16 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     // begins to turn on the spot at 90 deg/s was predicted and deskewed 12 deg/s faster each
     // scan for eight scans, each registered 6 deg from its prediction, and ended its turns up
     // to half a degree off.
-    velocity_ = velocity_updates_ >= kSettledVelocityUpdates && !step.convincing
-                    ? limitAcceleration(v, dt)
-                    : v;
+    if (step.searched) {
+      // The velocity along what the reference could not observe was unknown or ageing, and the
+      // previous scan has just measured it: that interval's motion is the velocity (a finite
+      // difference over two intervals would average in the one the prior guessed).
+      for (int i : {0, 1, 5}) velocity_(i) = step.search_motion(i);
+    } else {
+      velocity_ = velocity_updates_ >= kSettledVelocityUpdates && !step.convincing
+                      ? limitAcceleration(v, dt)
+                      : v;
+    }
     ++velocity_updates_;
     ++settled_updates_;
   }
@@ -251,6 +315,17 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     step.times.local_map_ms = map_watch.elapsedMs();
   }
 
+  // A scan whose registration could not observe everything may be the previous scan a search
+  // needs next time (searchUnobserved()): its points, times and deskewing velocity are kept.
+  if (params_.odometry.max_speed > 0.0 && !current_.empty() &&
+      (first || !step.registered || step.registration.degenerate)) {
+    previous_points_ = points;
+    previous_times_ = times;
+    previous_velocity_ = deskew_velocity;
+  } else if (!previous_points_.empty()) {
+    previous_points_.clear();
+    previous_times_.clear();
+  }
   before_last_pose_ = last_pose_;
   before_last_time_ = last_time_;
   last_pose_ = pose;
@@ -331,6 +406,188 @@ Eigen::Isometry3d LidarOdometry::decideByEvidence(const Eigen::Isometry3d& predi
   step.convincing = answers[best].r.cost < (1.0 - kConvincing) * prediction_cost;
   step.registration = answers[best].r;
   return answers[best].pose;
+}
+
+Eigen::Isometry3d LidarOdometry::searchUnobserved(const Eigen::Isometry3d& first, double dt,
+                                                  OdometryStep& step) {
+  // A registration that cannot observe a direction keeps the prediction along it, which is
+  // right only where the prediction is: a drive that starts at speed on a road with nothing but
+  // kerbs along it was predicted at rest for ever, though a pole passed every few seconds. Where
+  // the velocity is uncertain along such directions (motion_cov_), the scan's fit against the
+  // previous scan is evaluated over a grid of motions spread over two standard deviations of
+  // the velocity along them. The previous scan, not the reference: the reference stays where
+  // the stalled estimate left it, and a pole entering the view is in no older scan. Structure
+  // that the registration could not use (a pole 1.5 m from where the prediction put it, in
+  // levels too coarse to keep a cell of it) makes a clear minimum there. Only the fit is
+  // evaluated, no Gauss-Newton: on such scans the finest level alone wanders (kerbs pulled
+  // registrations tens of degrees round).
+  const OdometryParams& o = params_.odometry;
+  const double rs = params_.registration.solver.rotation_scale;
+  // Too few cells (solver.min_cells) make any fit noise: an HDL-32 scan of the open road kept
+  // 10, whose best fit lay 2.5 m backwards.
+  if (!(o.max_speed > 0.0) || previous_points_.empty() || current_.levels().empty() ||
+      static_cast<int>(current_.levels().front().cells.size()) <
+          params_.registration.solver.min_cells) {
+    return first;
+  }
+  const AlignmentResult& first_r = step.registration;
+  const Eigen::Matrix3d a = leftToBody(first_r.pose, rs);
+  const Eigen::Matrix3d c = a * planarScaled(first_r.covariance, rs) * a.transpose();
+  // The unobserved subspace (vehicle frame), and the velocity's spread over one interval
+  // within it.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> ec(0.5 * (c + c.transpose()));
+  Eigen::Matrix3d unobserved = Eigen::Matrix3d::Zero();
+  for (int i = 0; i < 3; ++i) {
+    if (ec.eigenvalues()(i) > kUnobservedThreshold)
+      unobserved += ec.eigenvectors().col(i) * ec.eigenvectors().col(i).transpose();
+  }
+  if (unobserved.trace() < 0.5) return first;
+  // Translations only: what the search finds is a few cells of structure (a pole), which pins
+  // where the vehicle is but not how it turned (that takes two such features apart), and
+  // searching the heading too found minima of a few cells' noise that set yaw rates of 10 deg/s.
+  const Eigen::Matrix3d prior = dt * dt * motion_cov_.bottomRightCorner<3, 3>();
+  const Eigen::DiagonalMatrix<double, 3> translation(1.0, 1.0, 0.0);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> ep(translation * unobserved * prior * unobserved *
+                                                    translation);
+  const double spacing = current_.levels().front().grid.resolution();
+  // Search axes: the prior's two widest directions within the unobserved subspace, where two
+  // standard deviations reach beyond the basin of the coarsest level (kSearchBasin cells): a
+  // prediction closer than that to the truth leaves the registration nothing to find.
+  std::vector<Eigen::Vector3d> axes;
+  std::vector<double> ranges;
+  for (int i = 2; i >= 1; --i) {
+    const double range = 2.0 * std::sqrt(std::max(0.0, ep.eigenvalues()(i)));
+    if (range > kSearchBasin * spacing) {
+      axes.push_back(ep.eigenvectors().col(i));
+      ranges.push_back(range);
+    }
+  }
+  if (axes.empty()) return first;
+  // The previous scan as a reference, deskewed as it was registered.
+  {
+    Stopwatch w;
+    const SweepMotion motion = previous_times_.size() == previous_points_.size()
+                                   ? SweepMotion(previous_times_, previous_velocity_)
+                                   : SweepMotion();
+    const DloParams& reg = params_.registration;
+    previous_frame_.build(previous_points_, motion, reg.grid, reg.selection, reg.includeGround(),
+                          FrameUse::kReferenceOnly);
+    step.times.registration.grid_ms += w.elapsedMs();
+  }
+  if (previous_frame_.empty()) return first;
+  // Steps along each axis, the whole grid within kSearchResiduals: wider spacing for wider
+  // ranges or more cells.
+  const double poses =
+      std::max(kMinSearchPoses,
+               kSearchResiduals / std::max<double>(1.0, current_.levels().front().cells.size()));
+  const double per_axis = axes.size() == 1 ? poses : std::sqrt(poses);
+  std::vector<int> steps;
+  std::vector<double> spacings;
+  for (double range : ranges) {
+    const int n = std::max(1, std::min(static_cast<int>(std::ceil(range / spacing)),
+                                       static_cast<int>(0.5 * (per_axis - 1.0))));
+    steps.push_back(n);
+    spacings.push_back(range / n);
+  }
+  // The motion since the previous scan as the registration has it, moved by d (vehicle frame).
+  const Eigen::Isometry3d relative = last_pose_.inverse() * first;
+  const auto moved = [&](const Eigen::Vector3d& d) {
+    Vector6d xi = Vector6d::Zero();
+    xi(0) = d(0);
+    xi(1) = d(1);
+    xi(5) = d(2) / rs;
+    return relative * expSE3(xi);
+  };
+  const double start_cost = aligner_.cost(previous_frame_, current_, relative);
+  std::vector<std::pair<Eigen::Vector3d, double>> grid = {{Eigen::Vector3d::Zero(), start_cost}};
+  const int n1 = steps.size() > 1 ? steps[1] : 0;
+  for (int i = -steps[0]; i <= steps[0]; ++i) {
+    for (int j = -n1; j <= n1; ++j) {
+      if (i == 0 && j == 0) continue;
+      Eigen::Vector3d d = i * spacings[0] * axes[0];
+      if (axes.size() > 1) d += j * spacings[1] * axes[1];
+      grid.emplace_back(d, aligner_.cost(previous_frame_, current_, moved(d)));
+      ++step.search_starts;
+    }
+  }
+  const auto lowest = std::min_element(
+      grid.begin(), grid.end(), [](const auto& x, const auto& y) { return x.second < y.second; });
+  const Eigen::Vector3d best = lowest->first;
+  const double best_cost = lowest->second;
+  // The minimum must be the only one: the rings of a sparse sensor on flat ground repeat every
+  // few metres and fit as well one ring further (an HDL-32 registered 2.5 m backwards per scan
+  // otherwise); a pole fits in one place. Outside the basin around the best pose nothing may fit
+  // nearly as well.
+  double second = start_cost;
+  for (const auto& [d, cost] : grid) {
+    if ((d - best).norm() > kSearchBasin * spacing) second = std::min(second, cost);
+  }
+  if (!(best_cost < (1.0 - kClearMargin) * second)) return first;
+  // The farther from the prediction (in standard deviations m of the velocity), the more a
+  // motion must lower the cost: by kClearMargin near it, up to half at two standard deviations
+  // and beyond.
+  const Eigen::Matrix3d prior_info = (prior + 1e-9 * Eigen::Matrix3d::Identity()).inverse();
+  const double m2 = best.dot(prior_info * best);
+  const double demanded = kClearMargin + (1.0 - kClearMargin) * std::min(0.5, m2 / 8.0);
+  if (!(best_cost < (1.0 - demanded) * start_cost)) return first;
+  // Registered against the reference from there: what the scan observes is refined, the rest
+  // stays where the search put it (the registration keeps its start along what it cannot see).
+  const Eigen::Isometry3d to_reference = reference_pose_.inverse();
+  const Eigen::Isometry3d found = last_pose_ * moved(best);
+  const AlignmentResult r =
+      aligner_.align(reference_, current_, to_reference * onGround(found, step));
+  step.times.registration.solve_ms += r.times.solve_ms;
+  step.searched = true;
+  step.search_motion = logSE3(moved(best)) / dt;
+  step.registration = r;
+  // The search measured the searched directions to within its spacing: the covariance says so
+  // (the motion filter, and the pose graph's edge, would otherwise learn nothing from it).
+  Eigen::Matrix3d searched = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d keep = Eigen::Matrix3d::Identity();
+  for (size_t k = 0; k < axes.size(); ++k) {
+    searched += spacings[k] * spacings[k] * axes[k] * axes[k].transpose();
+    keep -= axes[k] * axes[k].transpose();
+  }
+  const Eigen::Matrix3d a_r = leftToBody(r.pose, rs);
+  Eigen::Matrix3d cb = a_r * planarScaled(r.covariance, rs) * a_r.transpose();
+  cb = keep * cb * keep + searched;
+  const Eigen::Matrix3d cl = a_r.inverse() * cb * a_r.inverse().transpose();
+  constexpr int kIdx[3] = {0, 1, 5};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      step.registration.covariance(kIdx[i], kIdx[j]) =
+          cl(i, j) / ((i == 2 ? rs : 1.0) * (j == 2 ? rs : 1.0));
+  // The velocity along the searched directions is now known to the grid's spacing per interval.
+  Eigen::Matrix<double, 6, 6> k6 = Eigen::Matrix<double, 6, 6>::Identity();
+  k6.bottomRightCorner<3, 3>() = keep;
+  motion_cov_ = k6 * motion_cov_ * k6.transpose();
+  motion_cov_.bottomRightCorner<3, 3>() += searched / (dt * dt);
+  return reference_pose_ * r.pose;
+}
+
+void LidarOdometry::predictMotionCovariance(double dt) {
+  // Constant velocity: the pose's error grows by the velocity's; the velocity takes a random
+  // walk whose steps have the acceleration limits (10 m/s^2 and 120 deg/s^2 by default) as two
+  // standard deviations.
+  const OdometryParams& o = params_.odometry;
+  const double rs = params_.registration.solver.rotation_scale;
+  Eigen::Matrix<double, 6, 6> f = Eigen::Matrix<double, 6, 6>::Identity();
+  f.topRightCorner<3, 3>() = dt * Eigen::Matrix3d::Identity();
+  motion_cov_ = f * motion_cov_ * f.transpose();
+  const double a = 0.5 * o.max_acceleration * dt;
+  const double w = 0.5 * o.max_yaw_acceleration * kDeg * rs * dt;
+  motion_cov_.diagonal().tail<3>() += Eigen::Vector3d(a * a, a * a, w * w);
+}
+
+void LidarOdometry::updateMotionCovariance(const AlignmentResult& r) {
+  const double rs = params_.registration.solver.rotation_scale;
+  const Eigen::Matrix3d c = planarScaled(r.covariance, rs);
+  const Eigen::Matrix3d a = leftToBody(r.pose, rs);
+  const Eigen::Matrix3d s = motion_cov_.topLeftCorner<3, 3>() + a * c * a.transpose() +
+                            1e-12 * Eigen::Matrix3d::Identity();
+  const Eigen::Matrix<double, 6, 3> gain = motion_cov_.leftCols<3>() * s.inverse();
+  motion_cov_ -= gain * motion_cov_.topRows<3>();
+  motion_cov_ = 0.5 * (motion_cov_ + motion_cov_.transpose()).eval();
 }
 
 bool LidarOdometry::evidenceSupports(const std::vector<Answer>& answers, size_t best,

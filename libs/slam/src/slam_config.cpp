@@ -49,6 +49,10 @@ std::vector<ParamField<SlamParams>> fields() {
       paramField("odometry", "max_rejected_scans", &S::odometry, &O::max_rejected_scans,
                  "consecutive scans where the prediction was kept after which registrations are "
                  "believed again"),
+      paramField("odometry", "max_speed", &S::odometry, &O::max_speed,
+                 "m/s; the fastest the vehicle is expected to move: until the velocity along a "
+                 "direction is measured, a registration that cannot observe that direction "
+                 "searches for structure along it up to this speed; 0: never search"),
       paramField("odometry", "keyframe_distance", &S::odometry, &O::keyframe_distance,
                  "metres travelled since the last keyframe that make a new one"),
       paramField("odometry", "keyframe_angle", &S::odometry, &O::keyframe_angle,

@@ -27,6 +27,8 @@ std::string SlamParams::validate() const {
   if (!(o.max_yaw_acceleration >= 0.0))
     return outOfRange("odometry.max_yaw_acceleration", o.max_yaw_acceleration,
                       ">= 0 deg/s^2 (0: off)");
+  if (!(o.max_speed >= 0.0 && o.max_speed <= 200.0))
+    return outOfRange("odometry.max_speed", o.max_speed, "[0, 200] m/s (0: never search)");
   if (!(o.max_rejected_scans >= 1))
     return outOfRange("odometry.max_rejected_scans", o.max_rejected_scans, ">= 1 scan");
   if (!(o.keyframe_distance > 0.0))

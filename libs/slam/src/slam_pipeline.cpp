@@ -35,6 +35,8 @@ void SlamPipeline::process(double time, const PointCloud& points,
   if (step.alternative) ++counters_.alternative_frames;
   if (step.rejected) ++counters_.prediction_kept_frames;
   if (step.levelled) ++counters_.levelled_frames;
+  if (step.search_starts > 0) ++counters_.searched_frames;
+  if (step.searched) ++counters_.search_found_frames;
   switch (step.point_times) {
     case PointTimeSource::kMeasured:
       ++counters_.times_measured;

@@ -132,6 +132,10 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
   o << "  \"prediction_disagreements\": {\"decided_by_other_starts\": " << c.multi_start_frames
     << ", \"other_start_won\": " << c.alternative_frames
     << ", \"prediction_kept\": " << c.prediction_kept_frames << "},\n";
+  // Degenerate registrations along whose unobserved direction the prediction was uncertain
+  // (an unmeasured velocity): searched along it, and those where a start found the pose.
+  o << "  \"unobserved_searches\": {\"frames\": " << c.searched_frames
+    << ", \"found\": " << c.search_found_frames << "},\n";
   // How each scan was deskewed: with the input's per-point times, with times estimated from
   // the azimuths (spin start and direction read off the point order, or from the
   // odometry.sweep_* keys), or not at all (deskewing off).

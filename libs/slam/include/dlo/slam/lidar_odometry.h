@@ -58,6 +58,16 @@ struct OdometryStep {
   /// at most half the prediction's cost: the velocity is then measured without the
   /// odometry.max_acceleration and max_yaw_acceleration limits.
   bool convincing = false;
+  /// The registration from the prediction could not observe some direction, along which the
+  /// prediction itself was uncertain (an unmeasured or ageing velocity): the scan was
+  /// registered again from starts spread along that direction, and one of them, well
+  /// conditioned and fitting clearly better, gave the pose (LidarOdometry::searchUnobserved).
+  bool searched = false;
+  /// Motions evaluated against the previous scan along an unobserved direction (0: no search).
+  int search_starts = 0;
+  /// With `searched`: the motion since the previous scan that the search found, per second
+  /// (body twist), which becomes the velocity.
+  Vector6d search_motion = Vector6d::Zero();
   /// z, roll and pitch of `pose` were measured from the scan's ground (odometry.levelling);
   /// otherwise they are the prediction's.
   bool levelled = false;
@@ -128,6 +138,19 @@ class LidarOdometry {
     AlignmentResult r;
     Eigen::Isometry3d pose;  ///< odometry frame
   };
+  /// Where the registration from the prediction (step.registration, odometry-frame pose
+  /// `first`) left a direction unobserved and the velocity is uncertain along it by more than
+  /// the basin of the coarse levels over `dt` (motion_cov_): evaluates the fit against the
+  /// previous scan over motions spread over two standard deviations along that direction; if
+  /// one fits clearly better, registers from there against the reference and returns that pose
+  /// (setting step.searched, search_motion and registration), else `first`. Counts the motions
+  /// evaluated in step.search_starts.
+  Eigen::Isometry3d searchUnobserved(const Eigen::Isometry3d& first, double dt, OdometryStep& step);
+  /// Propagates motion_cov_ over `dt` (constant velocity, the acceleration limits as the
+  /// velocity's random walk).
+  void predictMotionCovariance(double dt);
+  /// Fuses a registration (its pose and covariance against the reference) into motion_cov_.
+  void updateMotionCovariance(const AlignmentResult& r);
   /// Whether answers[best] (of the answers that fit within 10 % of the best, the nearest to the
   /// prediction) is to be believed over the prediction: it is well conditioned and fits better
   /// than the prediction by a margin that grows with its distance from it (a soft prior), more
@@ -187,6 +210,20 @@ class LidarOdometry {
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d last_keyframe_pose_ = Eigen::Isometry3d::Identity();
   Vector6d velocity_ = Vector6d::Zero();
+  /// Uncertainty of the constant-velocity prediction in the plane, a small Kalman filter beside
+  /// the velocity: the predicted pose's error relative to the reference (body x, y, yaw) and the
+  /// velocity's error (vx, vy, yaw rate), rotations scaled to metres by solver.rotation_scale.
+  /// It starts with the velocity unknown (odometry.max_speed), grows with the acceleration
+  /// limits and shrinks along what registrations observe. It decides only where a degenerate
+  /// registration searches (searchUnobserved()) and how a searched answer corrects the velocity.
+  Eigen::Matrix<double, 6, 6> motion_cov_ = Eigen::Matrix<double, 6, 6>::Zero();
+  /// The last scan, kept only where its registration left something unobserved (or it was the
+  /// first): its points as given, their times and the velocity it was deskewed with, for
+  /// searchUnobserved() on the next scan.
+  PointCloud previous_points_;
+  std::vector<float> previous_times_;
+  Vector6d previous_velocity_ = Vector6d::Zero();
+  HeightFrame previous_frame_;  ///< built from them when a search needs it, memory reused
   /// The first scan as measured: it could not be deskewed (no velocity yet), so it is redone
   /// once the second scan gives a velocity, otherwise the whole local map stays distorted.
   PointCloud first_points_;

@@ -47,6 +47,12 @@ struct OdometryParams {
   /// Consecutive rejected scans after which registrations are believed again: by then the
   /// prediction is the more likely culprit.
   int max_rejected_scans = 5;
+  /// m/s: the fastest the vehicle is expected to move. Until registrations have measured the
+  /// velocity along a direction (a drive that starts at speed on a road that constrains
+  /// nothing along it), the prediction is that uncertain along it, and a registration that
+  /// cannot observe that direction searches up to this speed along it for structure that can
+  /// (LidarOdometry::searchUnobserved). 0: never search.
+  double max_speed = 40.0;
   double keyframe_distance = 2.0;  ///< metres travelled since the last keyframe: new keyframe
   double keyframe_angle = 10.0;    ///< degrees turned since the last keyframe: new keyframe
   /// Registration RMS height error (m) above this: new keyframe, with reference 1 or 2 (whose

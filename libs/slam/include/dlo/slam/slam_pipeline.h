@@ -36,6 +36,11 @@ struct PipelineCounters {
   size_t alternative_frames = 0;
   /// ... and of which the prediction fitted best and was kept (OdometryStep::rejected).
   size_t prediction_kept_frames = 0;
+  /// Scans whose registration could not observe a direction along which the prediction was
+  /// uncertain, registered again from starts along it (OdometryStep::search_starts) ...
+  size_t searched_frames = 0;
+  /// ... of which one of those starts gave the pose (OdometryStep::searched).
+  size_t search_found_frames = 0;
   /// Scans whose z, roll and pitch were measured from their ground (OdometryStep::levelled).
   size_t levelled_frames = 0;
   /// Scans by where their per-point times came from (PointTimeSource): measured, estimated
