@@ -89,7 +89,7 @@ TEST(MotionConditions, ADriveStartingAtSpeedOnAnOpenRoadFindsItsSpeedFromThePole
   // uncertain there, so the fit is searched along it (LidarOdometry::searchUnobserved).
   // Seed 1: the scans constrain nothing along the road until the first pole passes, and a
   // prediction at rest stays at rest. (Seed 4's drive is lost another way, with or without the
-  // search: its estimate runs 45 % fast; docs/benchmarks.md.)
+  // search: it drives backwards from its fifth scan; docs/benchmarks.md.)
   const auto road = simulate("open_road", "--open-road", "HDL64", 1);
   const OdometryRun searched = runOdometry(*road, SlamParams());
   SlamParams blind;
