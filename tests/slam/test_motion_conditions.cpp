@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <string>
 
+#include "dlo/metrics/trajectory.h"
 #include "dlo/metrics/trajectory_io.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 #include "dlo/slam/sensor_profile.h"
@@ -76,10 +77,7 @@ double largestGap(const std::vector<Eigen::Isometry3d>& a,
 }
 
 double pathLength(const std::vector<Eigen::Isometry3d>& poses) {
-  double length = 0.0;
-  for (size_t i = 1; i < poses.size(); ++i)
-    length += (poses[i].translation() - poses[i - 1].translation()).norm();
-  return length;
+  return poses.empty() ? 0.0 : metrics::pathDistances(poses).back();
 }
 
 TEST(MotionConditions, ADriveStartingAtSpeedOnAnOpenRoadFindsItsSpeedFromThePoles) {

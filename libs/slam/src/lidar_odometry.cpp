@@ -67,14 +67,35 @@ Eigen::Matrix3d leftToBody(const Eigen::Isometry3d& pose, double rs) {
   return a;
 }
 
+/// Where x, y and yaw sit in a 6-vector twist (x, y, z, wx, wy, wz).
+constexpr int kPlanar[3] = {0, 1, 5};
+/// Metres per unit of the planar component `i` (x, y, yaw): 1, 1 and `rs`.
+double planarScale(int i, double rs) {
+  return i == 2 ? rs : 1.0;
+}
+
 /// The x, y, yaw block of a 6 x 6 twist covariance, yaw scaled to metres by `rs`.
 Eigen::Matrix3d planarScaled(const Matrix6d& cov, double rs) {
-  constexpr int kIdx[3] = {0, 1, 5};
   Eigen::Matrix3d c;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
-      c(i, j) = cov(kIdx[i], kIdx[j]) * (i == 2 ? rs : 1.0) * (j == 2 ? rs : 1.0);
+      c(i, j) = cov(kPlanar[i], kPlanar[j]) * planarScale(i, rs) * planarScale(j, rs);
   return c;
+}
+
+/// Writes `c` (x, y, yaw scaled by `rs`, as planarScaled() gives it) back into the x, y, yaw
+/// block of `cov`.
+void setPlanarScaled(const Eigen::Matrix3d& c, double rs, Matrix6d& cov) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      cov(kPlanar[i], kPlanar[j]) = c(i, j) / (planarScale(i, rs) * planarScale(j, rs));
+}
+
+/// The twist of a planar motion d (x, y, yaw scaled by `rs`).
+Vector6d planarTwist(const Eigen::Vector3d& d, double rs) {
+  Vector6d xi = Vector6d::Zero();
+  for (int i = 0; i < 3; ++i) xi(kPlanar[i]) = d(i) / planarScale(i, rs);
+  return xi;
 }
 
 /// Points within `range` metres (horizontally) of the vehicle, what a keyframe keeps, into
@@ -270,17 +291,17 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     // See carried(): with levelling the whole motion, otherwise its planar part.
     const Vector6d v =
         carried(logSE3(from.inverse() * pose) / (two ? time - before_last_time_ : dt));
-    // A registration that disagreed with the prediction and halved its cost is a measurement the
-    // scan insists on (step.convincing): the velocity is taken as measured. Limited, a robot that
-    // begins to turn on the spot at 90 deg/s was predicted and deskewed 12 deg/s faster each
-    // scan for eight scans, each registered 6 deg from its prediction, and ended its turns up
-    // to half a degree off.
     if (step.searched) {
       // The velocity along what the reference could not observe was unknown or ageing, and the
       // previous scan has just measured it: that interval's motion is the velocity (a finite
       // difference over two intervals would average in the one the prior guessed).
-      for (int i : {0, 1, 5}) velocity_(i) = step.search_motion(i);
+      for (int i : kPlanar) velocity_(i) = step.search_motion(i);
     } else {
+      // A registration that disagreed with the prediction and halved its cost is a measurement
+      // the scan insists on (step.convincing): the velocity is taken as measured. Limited, a
+      // robot that begins to turn on the spot at 90 deg/s was predicted and deskewed 12 deg/s
+      // faster each scan for eight scans, each registered 6 deg from its prediction, and ended
+      // its turns up to half a degree off.
       velocity_ = velocity_updates_ >= kSettledVelocityUpdates && !step.convincing
                       ? limitAcceleration(v, dt)
                       : v;
@@ -492,11 +513,7 @@ Eigen::Isometry3d LidarOdometry::searchUnobserved(const Eigen::Isometry3d& first
   // The motion since the previous scan as the registration has it, moved by d (vehicle frame).
   const Eigen::Isometry3d relative = last_pose_.inverse() * first;
   const auto moved = [&](const Eigen::Vector3d& d) {
-    Vector6d xi = Vector6d::Zero();
-    xi(0) = d(0);
-    xi(1) = d(1);
-    xi(5) = d(2) / rs;
-    return relative * expSE3(xi);
+    return relative * expSE3(planarTwist(d, rs));
   };
   const double start_cost = aligner_.cost(previous_frame_, current_, relative);
   std::vector<std::pair<Eigen::Vector3d, double>> grid = {{Eigen::Vector3d::Zero(), start_cost}};
@@ -551,12 +568,7 @@ Eigen::Isometry3d LidarOdometry::searchUnobserved(const Eigen::Isometry3d& first
   const Eigen::Matrix3d a_r = leftToBody(r.pose, rs);
   Eigen::Matrix3d cb = a_r * planarScaled(r.covariance, rs) * a_r.transpose();
   cb = keep * cb * keep + searched;
-  const Eigen::Matrix3d cl = a_r.inverse() * cb * a_r.inverse().transpose();
-  constexpr int kIdx[3] = {0, 1, 5};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      step.registration.covariance(kIdx[i], kIdx[j]) =
-          cl(i, j) / ((i == 2 ? rs : 1.0) * (j == 2 ? rs : 1.0));
+  setPlanarScaled(a_r.inverse() * cb * a_r.inverse().transpose(), rs, step.registration.covariance);
   // The velocity along the searched directions is now known to the grid's spacing per interval.
   Eigen::Matrix<double, 6, 6> k6 = Eigen::Matrix<double, 6, 6>::Identity();
   k6.bottomRightCorner<3, 3>() = keep;

@@ -58,10 +58,11 @@ struct OdometryStep {
   /// at most half the prediction's cost: the velocity is then measured without the
   /// odometry.max_acceleration and max_yaw_acceleration limits.
   bool convincing = false;
-  /// The registration from the prediction could not observe some direction, along which the
-  /// prediction itself was uncertain (an unmeasured or ageing velocity): the scan was
-  /// registered again from starts spread along that direction, and one of them, well
-  /// conditioned and fitting clearly better, gave the pose (LidarOdometry::searchUnobserved).
+  /// The registration from the prediction could not observe a translation along which the
+  /// velocity was uncertain (unmeasured or ageing): the scan's fit against the previous scan,
+  /// evaluated over a grid of motions along it, had a unique and clearly better minimum, from
+  /// which the scan was registered again and which gave the velocity
+  /// (LidarOdometry::searchUnobserved).
   bool searched = false;
   /// Motions evaluated against the previous scan along an unobserved direction (0: no search).
   int search_starts = 0;
@@ -214,8 +215,8 @@ class LidarOdometry {
   /// the velocity: the predicted pose's error relative to the reference (body x, y, yaw) and the
   /// velocity's error (vx, vy, yaw rate), rotations scaled to metres by solver.rotation_scale.
   /// It starts with the velocity unknown (odometry.max_speed), grows with the acceleration
-  /// limits and shrinks along what registrations observe. It decides only where a degenerate
-  /// registration searches (searchUnobserved()) and how a searched answer corrects the velocity.
+  /// limits and shrinks along what registrations observe. It decides only where and how far a
+  /// degenerate registration searches (searchUnobserved()).
   Eigen::Matrix<double, 6, 6> motion_cov_ = Eigen::Matrix<double, 6, 6>::Zero();
   /// The last scan, kept only where its registration left something unobserved (or it was the
   /// first): its points as given, their times and the velocity it was deskewed with, for
