@@ -151,7 +151,10 @@ class LidarOdometry {
   /// velocity's random walk).
   void predictMotionCovariance(double dt);
   /// Fuses a registration (its pose and covariance against the reference) into motion_cov_.
-  void updateMotionCovariance(const AlignmentResult& r);
+  /// Returns, for x, y and yaw, the fraction of the registration's velocity (a pose error over
+  /// `dt`) that the filter's gain credits to the velocity: near 1 where the registration
+  /// constrains that direction much better than the prediction, near 0 where it does not.
+  Eigen::Vector3d updateMotionCovariance(const AlignmentResult& r, double dt);
   /// Whether answers[best] (of the answers that fit within 10 % of the best, the nearest to the
   /// prediction) is to be believed over the prediction: it is well conditioned and fits better
   /// than the prediction by a margin that grows with its distance from it (a soft prior), more
@@ -210,13 +213,19 @@ class LidarOdometry {
   Eigen::Vector2d last_map_position_ = Eigen::Vector2d::Zero();  ///< of the last scan it took
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d last_keyframe_pose_ = Eigen::Isometry3d::Identity();
+  /// RMS height errors of the first accepted, non-degenerate fits against the last few new
+  /// keyframes (at most kFreshFits), and whether the next such fit is still awaited: the fit a
+  /// new keyframe gives here, see needsKeyframe().
+  std::deque<double> fresh_fits_;
+  bool awaiting_fresh_fit_ = false;
   Vector6d velocity_ = Vector6d::Zero();
   /// Uncertainty of the constant-velocity prediction in the plane, a small Kalman filter beside
   /// the velocity: the predicted pose's error relative to the reference (body x, y, yaw) and the
   /// velocity's error (vx, vy, yaw rate), rotations scaled to metres by solver.rotation_scale.
   /// It starts with the velocity unknown (odometry.max_speed), grows with the acceleration
-  /// limits and shrinks along what registrations observe. It decides only where and how far a
-  /// degenerate registration searches (searchUnobserved()).
+  /// limits and shrinks along what registrations observe. It decides where and how far a
+  /// degenerate registration searches (searchUnobserved()) and how much of a registration's
+  /// planar velocity is taken (updateMotionCovariance()).
   Eigen::Matrix<double, 6, 6> motion_cov_ = Eigen::Matrix<double, 6, 6>::Zero();
   /// The last scan, kept only where its registration left something unobserved (or it was the
   /// first): its points as given, their times and the velocity it was deskewed with, for

@@ -56,8 +56,15 @@ struct OdometryParams {
   double keyframe_distance = 2.0;  ///< metres travelled since the last keyframe: new keyframe
   double keyframe_angle = 10.0;    ///< degrees turned since the last keyframe: new keyframe
   /// Registration RMS height error (m) above this: new keyframe, with reference 1 or 2 (whose
-  /// reference is made of keyframes) only.
+  /// reference is made of keyframes) only, and where keyframe_rms_ratio is set, only if the fit
+  /// is also that many times worse than fresh keyframes give.
   double keyframe_max_rms = 0.3;
+  /// 0 (off), or at least 1: a fit above keyframe_max_rms makes a keyframe only if it is also
+  /// this many times worse than the median of the first fits against the last 5 new keyframes
+  /// (what a new keyframe could not improve on, such as sensor noise or vegetation, then makes
+  /// none). Fewer keyframes where every fit is above the bound (real and 128-beam scans), at
+  /// some cost in drift; docs/benchmarks.md.
+  double keyframe_rms_ratio = 0.0;
   /// metres; decimation of keyframe clouds for the local map; 0 keeps every point (at 0.05 m an
   /// HDL-64 sweep keeps 91k of 117k points and the local map rasterised four such clouds per
   /// keyframe, hence 0.1 m, README; every point let the simulated open field of the
