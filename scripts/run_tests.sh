@@ -1,14 +1,18 @@
 #!/usr/bin/env bash
 # README command (2): install what is missing, build, and run the whole test suite with ctest;
-# then build again with AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/) and run the
-# suite once more under them (without the whole-drive accuracy tests, label "drive"); then fuzz
-# every input parser for a bounded number of executions (scripts/run_fuzz.sh, build-fuzz/).
+# check the installation and the Debian package (scripts/check_install.sh); then build again
+# with AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/) and run the suite once more
+# under them (without the whole-drive accuracy tests, label "drive"); then fuzz every input
+# parser for a bounded number of executions (scripts/run_fuzz.sh, build-fuzz/).
 # DLO_SKIP_SANITIZERS=1 skips the second pass, DLO_SKIP_FUZZ=1 the third.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
 bash scripts/build.sh
 (cd build && ctest --output-on-failure -j "${DLO_JOBS:-2}")
+# Installs into a temporary prefix, builds and runs a downstream project against it
+# (tests/downstream) and makes the Debian package (scripts/check_install.sh).
+bash scripts/check_install.sh build
 
 if [ "${DLO_SKIP_SANITIZERS:-0}" != "1" ]; then
   echo "run_tests: the same suite under AddressSanitizer and UndefinedBehaviorSanitizer"
