@@ -37,11 +37,14 @@ dlo-eval evaluates the poses with the metrics dlo-slam's report uses (KITTI drif
 ATE, poses matched within 5 ms). The table then has a method column and the peer's rows beside
 dlo-slam's; a peer's ms/scan is the wall time of its whole process / scans (file reading and
 start-up included), and a peer that fails counts as a failed drive. A peer such as KISS-ICP is
-built by the user from its own source; nothing of it is part of this project.
+built by the user from its own source; nothing of it is part of this project. --kiss-icp adds
+KISS-ICP through BUILD's dlo-kiss-icp, built when BUILD was configured with its source
+(-DDLO_KISS_ICP_SOURCE=...; scripts/build_kiss_icp_peer.sh).
 
 Example:
   python3 scripts/eval_matrix.py --out /tmp/matrix --sensors HDL64 VLP16 --seeds 1 2 3
   python3 scripts/eval_matrix.py --out /tmp/matrix --peer "KISS-ICP=/path/to/driver {kitti} {out}"
+  python3 scripts/eval_matrix.py --out /tmp/matrix --kiss-icp
 """
 import argparse
 import json
@@ -200,7 +203,15 @@ def main():
                     help="external odometry run on every drive's KITTI folder; COMMAND's {kitti} "
                          "and {out} are replaced by the folder and the poses file it writes "
                          "(repeatable; see above)")
+    ap.add_argument("--kiss-icp", action="store_true",
+                    help="KISS-ICP as a peer, through BUILD's dlo-kiss-icp (see above)")
     a = ap.parse_args()
+    if a.kiss_icp:
+        driver = os.path.abspath(os.path.join(a.build, "apps/dlo-kiss-icp/dlo-kiss-icp"))
+        if not os.access(driver, os.X_OK):
+            ap.error(f"--kiss-icp: {driver} not found; configure the build with "
+                     "-DDLO_KISS_ICP_SOURCE=... (scripts/build_kiss_icp_peer.sh)")
+        a.peer.append(("KISS-ICP", f"'{driver}' --quiet {{kitti}} {{out}}"))
     if len({name for name, _ in a.peer}) != len(a.peer) or "dlo-slam" in {n for n, _ in a.peer}:
         ap.error("--peer names must differ from each other and from 'dlo-slam'")
 

@@ -69,11 +69,14 @@ that fails or writes a wrong number of poses gets a failed row; the others are k
 folder is removed at the end. Example, with a KISS-ICP driver that you built from its source:
   dlo-bench --input drive.rawlog --gt gt.tum --out bench \
             --peer "KISS-ICP=/path/to/kiss_driver {kitti} {out}"
+--kiss-icp is that peer with dlo-kiss-icp, when this build has it (configured with
+-DDLO_KISS_ICP_SOURCE=...; scripts/build_kiss_icp_peer.sh).
 
 Options:
   --methods LIST       comma-separated method names.
   --peer NAME=COMMAND  an external odometry program (see Peers above); repeatable. NAME holds
                        letters, digits and . _ + -; COMMAND must contain {out}.
+  --kiss-icp           KISS-ICP as a peer named KISS-ICP, through this build's dlo-kiss-icp.
   --max-frames N       at most N scans per method.
   --max-frames-slow N  at most N scans for the slow methods (icp, ndt, gicp); default 100.
   --min-range M        drop points closer than M metres to the sensor (default 2.0).
@@ -130,12 +133,23 @@ std::vector<const dlo::bench::MethodSpec*> parseMethods(const std::string& list)
   return methods;
 }
 
+/// --kiss-icp: the peer spec of this build's dlo-kiss-icp.
+std::string kissIcpPeer() {
+#ifdef DLO_KISS_ICP_DRIVER
+  return std::string("KISS-ICP='") + DLO_KISS_ICP_DRIVER + "' --quiet {kitti} {out}";
+#else
+  throw UsageError{
+      "--kiss-icp needs a build with KISS-ICP (cmake -DDLO_KISS_ICP_SOURCE=..., see "
+      "scripts/build_kiss_icp_peer.sh); or give its driver with --peer."};
+#endif
+}
+
 Arguments parseArguments(int argc, char** argv) {
   const dlo::CommandLine cl(
       argc, argv,
       {"--input", "--gt", "--out", "--methods", "--max-frames", "--max-frames-slow", "--min-range",
        "--max-range", "--repeat", "--peer"},
-      {"--quiet"});
+      {"--quiet", "--kiss-icp"});
   Arguments a;
   a.help = cl.help();
   if (a.help) return a;
@@ -158,7 +172,9 @@ Arguments parseArguments(int argc, char** argv) {
   } else {
     a.methods = parseMethods(methods);
   }
-  for (const std::string& text : cl.values("--peer")) {
+  std::vector<std::string> peers = cl.values("--peer");
+  if (cl.flag("--kiss-icp")) peers.push_back(kissIcpPeer());
+  for (const std::string& text : peers) {
     try {
       a.peers.push_back(dlo::bench::parsePeerSpec(text));
     } catch (const std::invalid_argument& e) {
