@@ -111,7 +111,6 @@ int run(const Arguments& args) {
                        !args.quiet);
   dlo::TimedScan scan;
   std::vector<Eigen::Vector3d> frame;
-  double first_time = std::nan("");
   double seconds = 0.0;
   while ((args.max_frames < 0 || static_cast<long>(trajectory.size()) < args.max_frames) &&
          source->next(scan)) {
@@ -122,7 +121,6 @@ int run(const Arguments& args) {
     odometry.RegisterFrame(frame, {});
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double t = std::chrono::duration<double>(scan.timestamp.time_since_epoch()).count();
-    if (std::isnan(first_time)) first_time = t;
     trajectory.push_back(t, toIsometry(odometry.pose()));
     bar.update(trajectory.size());
   }
