@@ -120,8 +120,9 @@ int run(const Arguments& args) {
     const auto start = std::chrono::steady_clock::now();
     odometry.RegisterFrame(frame, {});
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const double t = std::chrono::duration<double>(scan.timestamp.time_since_epoch()).count();
-    trajectory.push_back(t, toIsometry(odometry.pose()));
+    // Unix seconds, as dlo-slam's trajectory.tum and the ground truth have them (MRPT's clock
+    // counts from 1601).
+    trajectory.push_back(scan.timestampSeconds(), toIsometry(odometry.pose()));
     bar.update(trajectory.size());
   }
   bar.finish(trajectory.size());
