@@ -13,6 +13,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr float kTwoPiF = 6.28318530717958647692f;
+constexpr float kPiF = 3.14159265358979323846f;
 
 /// atan2(y, x) in [-pi, pi] within 2e-5 rad (1e-3 deg, a microsecond of a 10 Hz sweep), with no
 /// branch and no library call: a sweep has 100k points and std::atan2 cost more than the grid.
@@ -153,12 +154,23 @@ SweepTimingEstimate estimateSweepTimes(const PointCloud& points, const SweepTimi
   // Seconds per radian of the sweep, and the time of its start relative to the stamp.
   const float scale = static_cast<float>(params.period / (2.0 * kPi));
   const float offset = static_cast<float>(-params.stamp_phase * params.period);
+  // In firing order a point's place in the cloud is its time, roughly: the sweep's first
+  // points lie near phase 0 and its last near a whole revolution. Near the seam the azimuth
+  // alone cannot tell the two apart (a sweep overlaps itself by a firing or two, and each laser
+  // has an azimuth offset of its own), and a point of the wrong end was timed a whole period
+  // off: deskewed by a sweep's motion, a wedge of the scan straight ahead stood a metre from
+  // where it was at 10 m/s. The azimuth's revolution is the one nearest the point's place.
+  const bool ordered = e.from_order && !points.empty();
+  const float per_point =
+      ordered ? kTwoPiF / static_cast<float>(points.size()) : 0.0f;  // radians of sweep per point
   size_t i = 0;
 #ifdef __SSE2__
   // Four points at a time, the scalar loop's operations lane by lane.
   const __m128 vdir = _mm_set1_ps(dir), vstart = _mm_set1_ps(start);
   const __m128 vscale = _mm_set1_ps(scale), voffset = _mm_set1_ps(offset);
   const __m128 two_pi = _mm_set1_ps(kTwoPiF), zero = _mm_setzero_ps();
+  const __m128 vper_point = _mm_set1_ps(per_point), vpi = _mm_set1_ps(kPiF);
+  const __m128 vminus_pi = _mm_set1_ps(-kPiF);
   for (; i + 4 <= points.size(); i += 4) {
     const Eigen::Vector3f* p = points.data() + i;
     const __m128 x = _mm_setr_ps(p[0].x(), p[1].x(), p[2].x(), p[3].x());
@@ -166,6 +178,13 @@ SweepTimingEstimate estimateSweepTimes(const PointCloud& points, const SweepTimi
     __m128 a = _mm_mul_ps(vdir, _mm_sub_ps(fastAtan2(y, x), vstart));
     a = _mm_add_ps(a, _mm_and_ps(_mm_cmplt_ps(a, zero), two_pi));
     a = _mm_sub_ps(a, _mm_and_ps(_mm_cmpge_ps(a, two_pi), two_pi));
+    if (ordered) {
+      const float k = static_cast<float>(i);
+      const __m128 expected = _mm_mul_ps(_mm_setr_ps(k, k + 1.0f, k + 2.0f, k + 3.0f), vper_point);
+      const __m128 ahead = _mm_sub_ps(a, expected);
+      a = _mm_sub_ps(a, _mm_and_ps(_mm_cmpgt_ps(ahead, vpi), two_pi));
+      a = _mm_add_ps(a, _mm_and_ps(_mm_cmplt_ps(ahead, vminus_pi), two_pi));
+    }
     const __m128 t = _mm_add_ps(_mm_mul_ps(a, vscale), voffset);
     // t - t is 0 unless t is infinite or NaN (a non-finite point): those get the stamp's time.
     _mm_storeu_ps(times.data() + i, _mm_and_ps(t, _mm_cmpeq_ps(_mm_sub_ps(t, t), zero)));
@@ -178,6 +197,11 @@ SweepTimingEstimate estimateSweepTimes(const PointCloud& points, const SweepTimi
     float a = dir * (fastAtan2(p.y(), p.x()) - start);
     a += a < 0.0f ? kTwoPiF : 0.0f;
     a -= a >= kTwoPiF ? kTwoPiF : 0.0f;
+    if (ordered) {
+      const float ahead = a - static_cast<float>(i) * per_point;
+      a -= ahead > kPiF ? kTwoPiF : 0.0f;
+      a += ahead < -kPiF ? kTwoPiF : 0.0f;
+    }
     const float t = a * scale + offset;
     times[i] = t - t == 0.0f ? t : 0.0f;
   }

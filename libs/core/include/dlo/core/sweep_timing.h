@@ -46,6 +46,9 @@ struct SweepTimingEstimate {
 /// supply both: a shuffled or voxelised cloud has no order, and one stored ring by ring has
 /// its driver's order, not the sensor's (KITTI's rings run counter-clockwise from the front,
 /// the sensor spins clockwise from behind).
+/// In firing order, a point near the seam (where the azimuth is the same at both ends of the
+/// sweep: the lasers' azimuth offsets, a sweep that overlaps itself) takes the end its place in
+/// the cloud says, so times may reach a little beyond one period.
 /// Non-finite points get the stamp's time (0).
 /// \param times resized to points.size(), memory reused.
 SweepTimingEstimate estimateSweepTimes(const PointCloud& points, const SweepTimingParams& params,
