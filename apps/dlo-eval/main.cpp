@@ -8,15 +8,15 @@
 #include <string>
 #include <vector>
 
+#include "dlo/app/app_main.h"
+#include "dlo/app/command_line.h"
 #include "dlo/eval/estimate_evaluation.h"
 #include "dlo/eval/evaluation_figures.h"
 #include "dlo/eval/evaluation_report.h"
-#include "dlo/export/atomic_file.h"
-#include "dlo/export/png_file.h"
+#include "dlo/files/atomic_file.h"
+#include "dlo/files/error.h"
+#include "dlo/formats/png_file.h"
 #include "dlo/metrics/trajectory_io.h"
-#include "dlo/mrpt/app_main.h"
-#include "dlo/mrpt/command_line.h"
-#include "dlo/mrpt/input_error.h"
 
 namespace {
 

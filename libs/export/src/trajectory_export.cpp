@@ -1,6 +1,6 @@
 #include "dlo/export/trajectory_export.h"
 
-#include "dlo/export/atomic_file.h"
+#include "dlo/files/atomic_file.h"
 #include "dlo/metrics/trajectory_io.h"
 
 namespace dlo {
@@ -16,7 +16,7 @@ void exportTrajectoryTum(const SlamMap& map, const std::string& path) {
   try {
     metrics::writeTumTrajectory(path, frameTrajectory(map));
   } catch (const std::runtime_error& e) {
-    throw ExportError(e.what());
+    throw OutputError(e.what());
   }
 }
 
@@ -24,7 +24,7 @@ void exportTrajectoryKitti(const SlamMap& map, const std::string& path) {
   try {
     metrics::writeKittiTrajectory(path, frameTrajectory(map));
   } catch (const std::runtime_error& e) {
-    throw ExportError(e.what());
+    throw OutputError(e.what());
   }
 }
 
