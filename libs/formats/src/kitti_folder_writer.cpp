@@ -56,13 +56,10 @@ void KittiFolderWriter::commit(const std::vector<Eigen::Isometry3d>& poses) {
   metrics::Trajectory trajectory;
   trajectory.times = times_;
   trajectory.poses = poses;
-  try {
-    metrics::writeTimestamps((fs::path(output_.temp()) / "times.txt").string(), times_);
-    if (!poses.empty()) {
-      metrics::writeKittiTrajectory((fs::path(output_.temp()) / "poses.txt").string(), trajectory);
-    }
-  } catch (const std::exception& e) {
-    throw OutputError(e.what());
+  // Written atomically too (dlo::writeAtomically), with OutputErrors naming the file.
+  metrics::writeTimestamps((fs::path(output_.temp()) / "times.txt").string(), times_);
+  if (!poses.empty()) {
+    metrics::writeKittiTrajectory((fs::path(output_.temp()) / "poses.txt").string(), trajectory);
   }
   output_.commit();  // replaces the empty folder the constructor accepted, if any
 }
