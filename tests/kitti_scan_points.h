@@ -8,7 +8,7 @@
 #include <limits>
 #include <string>
 
-#include "dlo/mrpt/kitti_bin.h"
+#include "dlo/mrpt/kitti_conversion.h"
 
 namespace dlo::test {
 

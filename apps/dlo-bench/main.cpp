@@ -13,19 +13,19 @@
 #include <string>
 #include <vector>
 
+#include "dlo/app/app_main.h"
+#include "dlo/app/command_line.h"
 #include "dlo/bench/bench_table.h"
 #include "dlo/bench/method_registry.h"
 #include "dlo/bench/method_run.h"
 #include "dlo/bench/peer_run.h"
 #include "dlo/eval/evaluation_figures.h"
-#include "dlo/export/atomic_file.h"
-#include "dlo/export/png_file.h"
+#include "dlo/files/atomic_file.h"
+#include "dlo/files/error.h"
+#include "dlo/formats/kitti_sequence.h"
+#include "dlo/formats/png_file.h"
 #include "dlo/metrics/trajectory_io.h"
-#include "dlo/mrpt/app_main.h"
-#include "dlo/mrpt/command_line.h"
-#include "dlo/mrpt/input_error.h"
 #include "dlo/mrpt/kitti_conversion.h"
-#include "dlo/mrpt/kitti_sequence.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 
 namespace {

@@ -8,15 +8,15 @@
 #include <string>
 #include <vector>
 
+#include "dlo/app/app_main.h"
+#include "dlo/app/command_line.h"
 #include "dlo/eval/estimate_evaluation.h"
 #include "dlo/eval/evaluation_figures.h"
 #include "dlo/eval/evaluation_report.h"
-#include "dlo/export/atomic_file.h"
-#include "dlo/export/png_file.h"
+#include "dlo/files/atomic_file.h"
+#include "dlo/files/error.h"
+#include "dlo/formats/png_file.h"
 #include "dlo/metrics/trajectory_io.h"
-#include "dlo/mrpt/app_main.h"
-#include "dlo/mrpt/command_line.h"
-#include "dlo/mrpt/input_error.h"
 
 namespace {
 
@@ -141,22 +141,6 @@ metrics::TrajectoryFormat formatOf(const std::string& role, const std::string& p
   }
 }
 
-void writeText(const std::string& path, const std::string& text) {
-  try {
-    dlo::writeBytesAtomically(path, std::vector<unsigned char>(text.begin(), text.end()));
-  } catch (const std::exception& e) {
-    throw InputError(e.what());
-  }
-}
-
-void writeFigure(const std::string& path, const cv::Mat& image) {
-  try {
-    dlo::writePng(image, path);
-  } catch (const std::exception& e) {
-    throw InputError(e.what());
-  }
-}
-
 int run(const Arguments& args) {
   const bool gt_is_kitti = formatOf("ground truth", args.gt) == metrics::TrajectoryFormat::kKitti;
   std::vector<double> gt_times;
@@ -218,10 +202,14 @@ int run(const Arguments& args) {
     throw InputError("cannot create output folder '" + args.out + "'.");
   }
   const std::filesystem::path out(args.out);
-  writeText((out / "metrics.json").string(), dlo::eval::metricsJson(settings, evaluations));
-  writeFigure((out / "trajectories.png").string(), dlo::eval::trajectoriesFigure(gt, evaluations));
-  writeFigure((out / "position_error.png").string(), dlo::eval::positionErrorFigure(evaluations));
-  writeFigure((out / "drift.png").string(), dlo::eval::driftFigure(evaluations));
+  // Written atomically; an OutputError names the file (exit status 1 through runApp).
+  const std::string json = dlo::eval::metricsJson(settings, evaluations);
+  dlo::writeBytesAtomically((out / "metrics.json").string(),
+                            std::vector<unsigned char>(json.begin(), json.end()));
+  dlo::writePng(dlo::eval::trajectoriesFigure(gt, evaluations),
+                (out / "trajectories.png").string());
+  dlo::writePng(dlo::eval::positionErrorFigure(evaluations), (out / "position_error.png").string());
+  dlo::writePng(dlo::eval::driftFigure(evaluations), (out / "drift.png").string());
 
   std::cout << dlo::eval::metricsTable(settings, evaluations);
   std::cout << "dlo-eval: metrics.json, trajectories.png, position_error.png, drift.png in '"

@@ -9,12 +9,12 @@
 #include <string>
 #include <vector>
 
+#include "dlo/app/app_main.h"
+#include "dlo/app/command_line.h"
+#include "dlo/app/progress_bar.h"
+#include "dlo/files/error.h"
 #include "dlo/metrics/trajectory_io.h"
-#include "dlo/mrpt/app_main.h"
-#include "dlo/mrpt/command_line.h"
-#include "dlo/mrpt/input_error.h"
 #include "dlo/mrpt/kitti_scan_source.h"
-#include "dlo/mrpt/progress_bar.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 #include "kiss_icp/pipeline/KissICP.hpp"
 

@@ -3,11 +3,11 @@
 #include <iostream>
 #include <string>
 
-#include "dlo/mrpt/app_main.h"
-#include "dlo/mrpt/command_line.h"
-#include "dlo/mrpt/input_error.h"
+#include "dlo/app/app_main.h"
+#include "dlo/app/command_line.h"
+#include "dlo/app/progress_bar.h"
+#include "dlo/files/error.h"
 #include "dlo/mrpt/kitti_conversion.h"
-#include "dlo/mrpt/progress_bar.h"
 
 namespace {
 

@@ -7,12 +7,12 @@
 #include <string>
 #include <vector>
 
+#include "dlo/app/app_main.h"
+#include "dlo/app/command_line.h"
 #include "dlo/core/stage_times.h"
+#include "dlo/files/error.h"
 #include "dlo/mrpt/CDirectHeightAligner.h"
-#include "dlo/mrpt/app_main.h"
-#include "dlo/mrpt/command_line.h"
 #include "dlo/mrpt/dlo_config.h"
-#include "dlo/mrpt/input_error.h"
 #include "dlo/mrpt/registration_report.h"
 #include "dlo/mrpt/scan_file.h"
 

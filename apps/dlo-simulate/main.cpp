@@ -1,6 +1,4 @@
 // dlo-simulate: writes a simulated rotating-LiDAR sequence (MRPT rawlog + TUM ground truth).
-#include <mrpt/io/CFileOutputStream.h>
-#include <mrpt/serialization/CArchive.h>
 #include <chrono>
 #include <cinttypes>
 #include <cstdio>
@@ -9,6 +7,10 @@
 #include <optional>
 #include <string>
 
+#include "dlo/app/app_main.h"
+#include "dlo/app/command_line.h"
+#include "dlo/files/atomic_file.h"
+#include "dlo/mrpt/rawlog_writer.h"
 #include "dlo/sim/lidar_model.h"
 #include "dlo/sim/procedural_world.h"
 #include "dlo/sim/route.h"
@@ -79,14 +81,12 @@ Options:
   --quiet        no progress on stderr
   --help         prints this text
 
-Exit status: 0 on success, 1 for a bad argument or an output that cannot be written; errors
-are one line on stderr starting with "dlo-simulate: ".
+Exit status: 0 on success, 1 for an output that cannot be written, 2 for a bad argument;
+errors are one line on stderr starting with "dlo-simulate: ".
 )";
 
-/// A mistake the user can fix: one sentence, exit status 1.
-struct UserError {
-  std::string message;
-};
+using dlo::OutputError;
+using dlo::UsageError;
 
 struct Arguments {
   std::string out;
@@ -108,7 +108,7 @@ struct Arguments {
   bool help = false;
 };
 
-/// `text` read whole by `read` (std::stol or std::stod) and within [lo, hi], or a UserError
+/// `text` read whole by `read` (std::stol or std::stod) and within [lo, hi], or a UsageError
 /// naming the option and what it expects.
 template <typename T, typename Read>
 T parseValue(const std::string& name, const std::string& text, T lo, T hi,
@@ -119,7 +119,7 @@ T parseValue(const std::string& name, const std::string& text, T lo, T hi,
     if (used == text.size() && v >= lo && v <= hi) return v;
   } catch (const std::exception&) {
   }
-  throw UserError{name + " must be " + expected + ", got '" + text + "'."};
+  throw UsageError{name + " must be " + expected + ", got '" + text + "'."};
 }
 
 long parseInteger(const std::string& name, const std::string& text, long lo, long hi,
@@ -135,83 +135,62 @@ double parseNumber(const std::string& name, const std::string& text, double lo, 
 }
 
 Arguments parseArguments(int argc, char** argv) {
+  const dlo::CommandLine cl(
+      argc, argv,
+      {"--out", "--frames", "--sensor", "--seed", "--threads", "--corner-transition", "--speed",
+       "--turn-rate", "--hills", "--sweep-start", "--spin"},
+      {"--quiet", "--patrol", "--no-point-times", "--open-road", "--stops"});
   Arguments a;
-  for (int i = 1; i < argc; ++i) {
-    std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      a.help = true;
-      return a;
-    }
-    if (arg == "--quiet") {
-      a.quiet = true;
-      continue;
-    }
-    if (arg == "--patrol") {
-      a.patrol = true;
-      continue;
-    }
-    if (arg == "--no-point-times") {
-      a.no_point_times = true;
-      continue;
-    }
-    if (arg == "--open-road") {
-      a.open_road = true;
-      continue;
-    }
-    if (arg == "--stops") {
-      a.stops = true;
-      continue;
-    }
-    std::string value;
-    const auto eq = arg.find('=');
-    if (eq != std::string::npos && arg.rfind("--", 0) == 0) {
-      value = arg.substr(eq + 1);
-      arg = arg.substr(0, eq);
-    } else if (arg == "--out" || arg == "--frames" || arg == "--sensor" || arg == "--seed" ||
-               arg == "--threads" || arg == "--corner-transition" || arg == "--speed" ||
-               arg == "--turn-rate" || arg == "--hills" || arg == "--sweep-start" ||
-               arg == "--spin") {
-      if (i + 1 >= argc) throw UserError{arg + " needs a value."};
-      value = argv[++i];
-    }
-    if (arg == "--out") {
-      a.out = value;
-    } else if (arg == "--frames") {
-      a.frames = static_cast<int>(parseInteger("--frames", value, 1, 10000000, "an integer >= 1"));
-    } else if (arg == "--sensor") {
-      const auto s = dlo::sim::parseSensorType(value);
-      if (!s) {
-        throw UserError{"--sensor must be VLP16, HDL32, HDL64, OS64 or OS128, got '" + value +
-                        "'."};
-      }
-      a.sensor = *s;
-    } else if (arg == "--seed") {
-      a.seed = static_cast<uint32_t>(
-          parseInteger("--seed", value, 0, 4294967295L, "an integer in [0, 4294967295]"));
-    } else if (arg == "--corner-transition") {
-      a.corner_transition =
-          parseNumber("--corner-transition", value, 0.0, 15.0, "a number of metres in [0, 15]");
-    } else if (arg == "--speed") {
-      a.speed = parseNumber("--speed", value, 0.2, 5.0, "a speed in [0.2, 5] m/s");
-    } else if (arg == "--turn-rate") {
-      a.turn_rate = parseNumber("--turn-rate", value, 10.0, 180.0, "a rate in [10, 180] deg/s");
-    } else if (arg == "--hills") {
-      a.hills = parseNumber("--hills", value, 0.05, 0.3, "a grade in [0.05, 0.3]");
-    } else if (arg == "--sweep-start") {
-      a.sweep_start =
-          parseNumber("--sweep-start", value, -360.0, 360.0, "an angle in [-360, 360] degrees");
-    } else if (arg == "--spin") {
-      if (value != "cw" && value != "ccw")
-        throw UserError{"--spin must be cw or ccw, got '" + value + "'."};
-      a.spin = value == "cw" ? -1 : 1;
-    } else if (arg == "--threads") {
-      a.threads =
-          static_cast<int>(parseInteger("--threads", value, 1, 64, "an integer in [1, 64]"));
-    } else {
-      throw UserError{"unknown argument '" + arg + "' (see --help)."};
-    }
+  if (cl.help()) {
+    a.help = true;
+    return a;
   }
-  if (a.out.empty()) throw UserError{"--out DIR is required (see --help)."};
+  cl.rejectPositional();
+  a.quiet = cl.flag("--quiet");
+  a.patrol = cl.flag("--patrol");
+  a.no_point_times = cl.flag("--no-point-times");
+  a.open_road = cl.flag("--open-road");
+  a.stops = cl.flag("--stops");
+  a.out = cl.text("--out");
+  if (const auto v = cl.value("--frames")) {
+    a.frames = static_cast<int>(parseInteger("--frames", *v, 1, 10000000, "an integer >= 1"));
+  }
+  if (const auto v = cl.value("--sensor")) {
+    const auto s = dlo::sim::parseSensorType(*v);
+    if (!s) {
+      throw UsageError{"--sensor must be VLP16, HDL32, HDL64, OS64 or OS128, got '" + *v + "'."};
+    }
+    a.sensor = *s;
+  }
+  if (const auto v = cl.value("--seed")) {
+    a.seed = static_cast<uint32_t>(
+        parseInteger("--seed", *v, 0, 4294967295L, "an integer in [0, 4294967295]"));
+  }
+  if (const auto v = cl.value("--corner-transition")) {
+    a.corner_transition =
+        parseNumber("--corner-transition", *v, 0.0, 15.0, "a number of metres in [0, 15]");
+  }
+  if (const auto v = cl.value("--speed")) {
+    a.speed = parseNumber("--speed", *v, 0.2, 5.0, "a speed in [0.2, 5] m/s");
+  }
+  if (const auto v = cl.value("--turn-rate")) {
+    a.turn_rate = parseNumber("--turn-rate", *v, 10.0, 180.0, "a rate in [10, 180] deg/s");
+  }
+  if (const auto v = cl.value("--hills")) {
+    a.hills = parseNumber("--hills", *v, 0.05, 0.3, "a grade in [0.05, 0.3]");
+  }
+  if (const auto v = cl.value("--sweep-start")) {
+    a.sweep_start =
+        parseNumber("--sweep-start", *v, -360.0, 360.0, "an angle in [-360, 360] degrees");
+  }
+  if (const auto v = cl.value("--spin")) {
+    if (*v != "cw" && *v != "ccw") throw UsageError{"--spin must be cw or ccw, got '" + *v + "'."};
+    a.spin = *v == "cw" ? -1 : 1;
+  }
+  if (const auto v = cl.value("--threads")) {
+    a.threads = static_cast<int>(parseInteger("--threads", *v, 1, 64, "an integer in [1, 64]"));
+  }
+  if (a.out.empty()) throw UsageError{"--out DIR is required (see --help)."};
   return a;
 }
 
@@ -238,17 +217,19 @@ int run(const Arguments& a) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(a.out, ec);
-  if (ec) throw UserError{"--out: cannot create directory '" + a.out + "': " + ec.message() + "."};
-  const fs::path rawlogPath = fs::path(a.out) / "sequence.rawlog";
-  const fs::path tumPath = fs::path(a.out) / "groundtruth.tum";
-  const fs::path rawlogTmp = rawlogPath.string() + ".part", tumTmp = tumPath.string() + ".part";
-
-  mrpt::io::CFileOutputStream rawlog;
-  if (!rawlog.open(rawlogTmp.string())) {
-    throw UserError{"--out: cannot write to directory '" + a.out + "'."};
+  if (ec) {
+    throw OutputError{"--out: cannot create directory '" + a.out + "': " + ec.message() + "."};
   }
-  std::FILE* tum = std::fopen(tumTmp.string().c_str(), "w");
-  if (!tum) throw UserError{"--out: cannot write to directory '" + a.out + "'."};
+  // Both files are written under temporary names and renamed at the end (dlo::AtomicOutput).
+  std::optional<dlo::RawlogWriter> rawlog;
+  try {
+    rawlog.emplace((fs::path(a.out) / "sequence.rawlog").string());
+  } catch (const dlo::Error&) {
+    throw OutputError{"--out: cannot write to directory '" + a.out + "'."};
+  }
+  dlo::AtomicOutput tumOutput((fs::path(a.out) / "groundtruth.tum").string());
+  std::FILE* tum = std::fopen(tumOutput.temp().c_str(), "w");
+  if (!tum) throw OutputError{"--out: cannot write to directory '" + a.out + "'."};
 
   // A whole hour (2024-01-01T00:00:00Z), so that the packets' "microseconds since the top of
   // the hour" equal the time since the start, modulo one hour.
@@ -284,17 +265,16 @@ int run(const Arguments& a) {
                params.model.name.c_str(), a.seed, trajectory.geometry().sensorPosition.x(),
                trajectory.geometry().sensorPosition.y(), trajectory.geometry().sensorPosition.z());
 
-  auto archive = mrpt::serialization::archiveFrom(rawlog);
   const Eigen::Isometry3d mount = trajectory.sensorMount();
   const auto start = std::chrono::steady_clock::now();
   for (int k = 0; k < a.frames; ++k) {
     const dlo::sim::Sweep sweep = simulator.simulate(k);
     if (a.no_point_times) {
-      archive << *dlo::withoutPointTimes(sweep, simulator, mount, epoch, "LIDAR");
+      rawlog->write(*dlo::withoutPointTimes(sweep, simulator, mount, epoch, "LIDAR"));
     } else if (params.model.velodyne()) {
-      archive << *dlo::toVelodyneScan(sweep, simulator, mount, epoch, "LIDAR");
+      rawlog->write(*dlo::toVelodyneScan(sweep, simulator, mount, epoch, "LIDAR"));
     } else {
-      archive << *dlo::toRotatingScan(sweep, simulator, mount, epoch, "LIDAR");
+      rawlog->write(*dlo::toRotatingScan(sweep, simulator, mount, epoch, "LIDAR"));
     }
     const Eigen::Isometry3d pose =
         trajectory.vehiclePose(static_cast<double>(sweep.referenceTimeNs) * 1e-9);
@@ -306,32 +286,22 @@ int run(const Arguments& a) {
                    (k + 1) / std::max(s, 1e-9));
     }
   }
-  rawlog.close();
   const bool tumOk = std::fclose(tum) == 0;
-  if (!tumOk) throw UserError{"--out: failed writing '" + tumTmp.string() + "'."};
-  fs::rename(rawlogTmp, rawlogPath, ec);
-  if (!ec) fs::rename(tumTmp, tumPath, ec);
-  if (ec)
-    throw UserError{"--out: cannot rename the output files in '" + a.out + "': " + ec.message() +
-                    "."};
+  if (!tumOk) throw OutputError{"--out: failed writing '" + tumOutput.temp() + "'."};
+  rawlog->commit();
+  tumOutput.commit();
   return 0;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
+  return dlo::runApp("dlo-simulate", [&] {
     const Arguments a = parseArguments(argc, argv);
     if (a.help) {
       std::cout << kUsage;
       return 0;
     }
     return run(a);
-  } catch (const UserError& e) {
-    std::cerr << "dlo-simulate: " << e.message << "\n";
-    return 1;
-  } catch (const std::exception& e) {
-    std::cerr << "dlo-simulate: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }

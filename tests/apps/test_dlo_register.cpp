@@ -12,7 +12,7 @@
 #include "../test_data.h"
 #include "../test_process.h"
 #include "dlo/core/rigid_transform.h"
-#include "dlo/mrpt/scan_file.h"
+#include "dlo/formats/kitti_bin.h"
 
 namespace dlo {
 namespace {

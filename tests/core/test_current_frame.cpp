@@ -14,7 +14,7 @@
 #include "dlo/core/dlo_params.h"
 #include "dlo/core/height_frame.h"
 #include "dlo/core/weighted_cloud.h"
-#include "dlo/mrpt/scan_file.h"
+#include "dlo/formats/kitti_bin.h"
 
 namespace dlo {
 namespace {

@@ -8,7 +8,7 @@
 #include "dlo/core/direct_aligner.h"
 #include "dlo/core/dlo_params.h"
 #include "dlo/core/height_frame.h"
-#include "dlo/mrpt/scan_file.h"
+#include "dlo/formats/kitti_bin.h"
 
 namespace dlo {
 namespace {

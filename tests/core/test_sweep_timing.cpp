@@ -11,7 +11,7 @@
 
 #include "../test_data.h"
 #include "dlo/core/sweep_timing.h"
-#include "dlo/mrpt/kitti_bin.h"
+#include "dlo/mrpt/kitti_conversion.h"
 
 namespace dlo {
 namespace {

@@ -11,7 +11,7 @@
 
 #include "../test_data.h"
 #include "dlo/core/weighted_cloud.h"
-#include "dlo/mrpt/scan_file.h"
+#include "dlo/formats/kitti_bin.h"
 
 namespace dlo {
 namespace {

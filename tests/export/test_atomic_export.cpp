@@ -4,11 +4,11 @@
 
 #include <fstream>
 
-#include "dlo/export/atomic_file.h"
 #include "dlo/export/export_all.h"
 #include "dlo/export/pose_graph_export.h"
 #include "dlo/export/simple_map_export.h"
 #include "dlo/export/trajectory_export.h"
+#include "dlo/files/atomic_file.h"
 #include "export_folder.h"
 #include "synthetic_map.h"
 
@@ -35,7 +35,7 @@ TEST(AtomicExport, MissingFolderIsNamedAndNothingIsCreated) {
   try {
     dlo::exportAll(smallMap(), dir);
     FAIL() << "no exception";
-  } catch (const dlo::ExportError& e) {
+  } catch (const dlo::OutputError& e) {
     EXPECT_NE(std::string(e.what()).find(dir), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists(dir));
@@ -45,14 +45,14 @@ TEST(AtomicExport, MissingFolderIsNamedAndNothingIsCreated) {
 TEST(AtomicExport, FolderThatIsAFileIsRejected) {
   dlo::test::ExportFolder folder("file");
   std::ofstream(folder.file("plain")) << "x";
-  EXPECT_THROW(dlo::exportAll(smallMap(), folder.file("plain")), dlo::ExportError);
+  EXPECT_THROW(dlo::exportAll(smallMap(), folder.file("plain")), dlo::OutputError);
 }
 
 TEST(AtomicExport, ReadOnlyFolderIsRejectedWithoutPartialFiles) {
   if (::geteuid() == 0) GTEST_SKIP() << "root can write into read-only folders";
   dlo::test::ExportFolder folder("readonly");
   fs::permissions(folder.path(), fs::perms::owner_read | fs::perms::owner_exec);
-  EXPECT_THROW(dlo::exportAll(smallMap(), folder.path().string()), dlo::ExportError);
+  EXPECT_THROW(dlo::exportAll(smallMap(), folder.path().string()), dlo::OutputError);
   fs::permissions(folder.path(), fs::perms::owner_all);
   EXPECT_TRUE(fs::is_empty(folder.path()));
 }
@@ -72,7 +72,7 @@ TEST(AtomicExport, EachWriterNamesItsFileAndLeavesNoTemporary) {
     try {
       write(path);
       ADD_FAILURE() << name << ": no exception";
-    } catch (const dlo::ExportError& e) {
+    } catch (const dlo::OutputError& e) {
       EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
       EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
     }
@@ -89,7 +89,7 @@ TEST(AtomicExport, FailedWriteKeepsThePreviousFile) {
                                       std::ofstream(temp) << "half";
                                       throw std::runtime_error("interrupted");
                                     }),
-               dlo::ExportError);
+               dlo::OutputError);
   EXPECT_EQ(readAll(path), "previous");
   EXPECT_FALSE(fs::exists(path + ".tmp"));
   dlo::writeAtomically(path, [](const std::string& temp) { std::ofstream(temp) << "new"; });

@@ -17,8 +17,8 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "dlo/export/export_all.h"
+#include "dlo/formats/ply_file.h"
 #include "dlo/metrics/trajectory_io.h"
-#include "dlo/mrpt/ply_file.h"
 #include "dlo/mrpt/pose_conversion.h"
 #include "export_folder.h"
 #include "synthetic_map.h"

@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "allocation_limit.h"
+#include "dlo/files/error.h"
 #include "dlo/mrpt/dlo_config.h"
-#include "dlo/mrpt/input_error.h"
 #include "dlo/slam/slam_config.h"
 #include "fuzz_input_file.h"
 

@@ -45,7 +45,7 @@ class FuzzInputFile {
   std::string path_;
 };
 
-/// The error contract (input_error.h): a message about a bad input is one line that names the
+/// The error contract (dlo/files/error.h): a message about a bad input is one line that names the
 /// file. Aborts, so that libFuzzer reports the input, when `message` is not.
 inline void requireNames(const std::string& message, const std::string& name) {
   const char* problem = message.find(name) == std::string::npos   ? "does not name the file"

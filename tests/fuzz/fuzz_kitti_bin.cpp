@@ -7,9 +7,9 @@
 #include <cstdint>
 
 #include "allocation_limit.h"
-#include "dlo/mrpt/input_error.h"
-#include "dlo/mrpt/kitti_bin.h"
-#include "dlo/mrpt/scan_file.h"
+#include "dlo/files/error.h"
+#include "dlo/formats/kitti_bin.h"
+#include "dlo/mrpt/kitti_conversion.h"
 #include "fuzz_input_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

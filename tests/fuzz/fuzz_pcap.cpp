@@ -10,7 +10,7 @@
 #include <cstdint>
 
 #include "allocation_limit.h"
-#include "dlo/mrpt/input_error.h"
+#include "dlo/files/error.h"
 #include "dlo/mrpt/velodyne_pcap_reader.h"
 #include "fuzz_input_file.h"
 

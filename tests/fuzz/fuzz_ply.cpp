@@ -9,8 +9,8 @@
 #include <string>
 
 #include "allocation_limit.h"
-#include "dlo/mrpt/input_error.h"
-#include "dlo/mrpt/ply_file.h"
+#include "dlo/files/error.h"
+#include "dlo/formats/ply_file.h"
 #include "fuzz_input_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -7,7 +7,7 @@
 #include <cstdint>
 
 #include "allocation_limit.h"
-#include "dlo/mrpt/input_error.h"
+#include "dlo/files/error.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 #include "fuzz_input_file.h"
 

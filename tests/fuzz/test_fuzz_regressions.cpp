@@ -9,10 +9,10 @@
 #include <sstream>
 #include <string>
 
+#include "dlo/files/error.h"
+#include "dlo/formats/kitti_bin.h"
+#include "dlo/formats/ply_file.h"
 #include "dlo/mrpt/dlo_config.h"
-#include "dlo/mrpt/input_error.h"
-#include "dlo/mrpt/kitti_bin.h"
-#include "dlo/mrpt/ply_file.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 #include "dlo/mrpt/scan_file.h"
 #include "dlo/mrpt/velodyne_pcap_reader.h"

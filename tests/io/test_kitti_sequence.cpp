@@ -4,9 +4,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include "dlo/mrpt/input_error.h"
-#include "dlo/mrpt/kitti_bin.h"
-#include "dlo/mrpt/kitti_sequence.h"
+#include "dlo/files/error.h"
+#include "dlo/formats/kitti_bin.h"
+#include "dlo/formats/kitti_sequence.h"
+#include "dlo/mrpt/kitti_conversion.h"
 #include "io_test_helpers.h"
 
 namespace dlo {

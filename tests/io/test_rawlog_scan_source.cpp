@@ -12,7 +12,7 @@
 #include <fstream>
 #include <limits>
 
-#include "dlo/mrpt/input_error.h"
+#include "dlo/files/error.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 #include "dlo/mrpt/rawlog_writer.h"
 #include "dlo/mrpt/scan_file.h"

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "dlo/mrpt/input_error.h"
+#include "dlo/files/error.h"
 #include "dlo/mrpt/velodyne_capture_check.h"
 #include "dlo/mrpt/velodyne_pcap_reader.h"
 #include "io_test_helpers.h"

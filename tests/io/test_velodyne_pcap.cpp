@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <fstream>
 
-#include "dlo/mrpt/input_error.h"
+#include "dlo/files/error.h"
 #include "dlo/mrpt/velodyne_pcap_reader.h"
 #include "io_test_helpers.h"
 

@@ -14,13 +14,13 @@
 
 #include "../test_data.h"
 #include "dlo/core/rigid_transform.h"
+#include "dlo/files/error.h"
+#include "dlo/formats/kitti_bin.h"
 #include "dlo/mrpt/CDirectHeightAligner.h"
 #include "dlo/mrpt/class_registration.h"
 #include "dlo/mrpt/dlo_config.h"
 #include "dlo/mrpt/height_grid_map_conversion.h"
-#include "dlo/mrpt/input_error.h"
 #include "dlo/mrpt/pose_conversion.h"
-#include "dlo/mrpt/scan_file.h"
 
 namespace dlo {
 namespace {

@@ -6,8 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "dlo/files/error.h"
 #include "dlo/mrpt/dlo_config.h"
-#include "dlo/mrpt/input_error.h"
 
 namespace dlo {
 namespace {

@@ -108,7 +108,7 @@ TEST(DloSimulate, WritesOneVelodyneScanAndOnePosePerFrameDeterministically) {
       0);
   EXPECT_EQ(slurp(a / "sequence.rawlog"), slurp(b / "sequence.rawlog"));
   EXPECT_EQ(slurp(a / "groundtruth.tum"), slurp(b / "groundtruth.tum"));
-  EXPECT_FALSE(fs::exists(a / "sequence.rawlog.part"));
+  EXPECT_FALSE(fs::exists(a / "sequence.rawlog.tmp"));
 
   // TUM: a comment header, then one line of 8 numbers per frame.
   std::ifstream tum(a / "groundtruth.tum");
@@ -320,26 +320,30 @@ TEST(DloSimulate, UntimedSweepsStartAtTheGivenAzimuthAndTurnInTheGivenDirection)
   }
 }
 
-TEST(DloSimulate, BadArgumentsAreOneSentenceAndExitStatusOne) {
+TEST(DloSimulate, BadArgumentsAreOneSentenceAndExitStatusTwo) {
   const std::string out = "--out " + freshDir("bad").string();
   RunResult r = runSimulator(out + " --sensor OS1");
-  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--sensor"), std::string::npos) << r.err;
   r = runSimulator(out + " --frames 0");
-  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--frames"), std::string::npos) << r.err;
   for (const char* hills : {" --hills 0.5", " --hills steep", " --hills"}) {
     r = runSimulator(out + hills);
-    EXPECT_EQ(r.status, 1) << hills;
+    EXPECT_EQ(r.status, 2) << hills;
     EXPECT_NE(r.err.find("--hills"), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   }
   for (const std::string bad : {"--spin up", "--spin", "--sweep-start 400", "--sweep-start x"}) {
     r = runSimulator(out + " " + bad);
-    EXPECT_EQ(r.status, 1) << bad;
+    EXPECT_EQ(r.status, 2) << bad;
     EXPECT_NE(r.err.find(bad.substr(0, bad.find(' '))), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   }
+  r = runSimulator(out + " --bogus");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--bogus"), std::string::npos) << r.err;
+  // An output that cannot be written is not a command-line mistake: exit status 1.
   r = runSimulator("--out /proc/dlo_simulate_cannot_write --frames 1");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("--out"), std::string::npos) << r.err;

@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include "../test_data.h"
-#include "dlo/mrpt/input_error.h"
-#include "dlo/mrpt/scan_file.h"
+#include "dlo/files/error.h"
+#include "dlo/formats/kitti_bin.h"
 #include "dlo/sim/procedural_world.h"
 #include "dlo/sim/route.h"
 #include "dlo/sim/sweep_simulator.h"

@@ -9,7 +9,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "dlo/mrpt/input_error.h"
+#include "dlo/files/error.h"
 #include "dlo/mrpt/kitti_scan_source.h"
 #include "dlo/slam/slam_config.h"
 

@@ -10,9 +10,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "dlo/app/progress_bar.h"
 #include "dlo/core/stage_times.h"
 #include "dlo/metrics/error_statistics.h"
-#include "dlo/mrpt/progress_bar.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 #include "dlo/slam/process_memory.h"
 

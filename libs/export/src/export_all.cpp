@@ -5,14 +5,14 @@
 #include <functional>
 #include <optional>
 
-#include "dlo/export/atomic_file.h"
 #include "dlo/export/height_map_export.h"
 #include "dlo/export/ply_export.h"
-#include "dlo/export/png_file.h"
 #include "dlo/export/pose_graph_export.h"
 #include "dlo/export/simple_map_export.h"
 #include "dlo/export/trajectory_export.h"
 #include "dlo/export/world_cloud.h"
+#include "dlo/files/atomic_file.h"
+#include "dlo/formats/png_file.h"
 
 namespace dlo {
 
@@ -24,12 +24,12 @@ namespace {
 void checkWritableFolder(const std::string& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) {
-    throw ExportError("cannot export into '" + dir + "' (it is not an existing folder).");
+    throw OutputError("cannot export into '" + dir + "' (it is not an existing folder).");
   }
   const fs::path probe = fs::path(dir) / ".dlo_export_probe.tmp";
   bool ok = static_cast<bool>(std::ofstream(probe));
   fs::remove(probe, ec);
-  if (!ok) throw ExportError("cannot export into '" + dir + "' (the folder is not writable).");
+  if (!ok) throw OutputError("cannot export into '" + dir + "' (the folder is not writable).");
 }
 
 }  // namespace

@@ -8,7 +8,7 @@
 #include <limits>
 #include <vector>
 
-#include "dlo/export/atomic_file.h"
+#include "dlo/files/atomic_file.h"
 
 namespace dlo {
 

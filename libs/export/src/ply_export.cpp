@@ -3,7 +3,7 @@
 #include <cstring>
 #include <fstream>
 
-#include "dlo/export/atomic_file.h"
+#include "dlo/files/atomic_file.h"
 
 namespace dlo {
 

@@ -2,7 +2,7 @@
 
 #include <fstream>
 
-#include "dlo/export/atomic_file.h"
+#include "dlo/files/atomic_file.h"
 #include "dlo/mrpt/pose_conversion.h"
 
 namespace dlo {

@@ -11,9 +11,9 @@
 #include <cmath>
 #include <vector>
 
-#include "dlo/export/atomic_file.h"
 #include "dlo/export/height_range.h"
-#include "dlo/export/png_file.h"
+#include "dlo/files/atomic_file.h"
+#include "dlo/formats/png_file.h"
 #include "dlo/mrpt/pose_conversion.h"
 
 namespace dlo {
@@ -120,7 +120,7 @@ void renderScenePng(const mrpt::opengl::COpenGLScene& scene, const std::string& 
     render.render_RGB(scene, rgb);
   } catch (const std::exception& e) {
     const std::string what = e.what();
-    throw ExportError("cannot render '" + path + "' (no off-screen OpenGL through EGL: " +
+    throw OutputError("cannot render '" + path + "' (no off-screen OpenGL through EGL: " +
                       what.substr(0, what.find('\n')) + ").");
   }
   writePng(rgb.asCvMat<cv::Mat>(mrpt::img::SHALLOW_COPY), path);

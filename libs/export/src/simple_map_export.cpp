@@ -5,7 +5,7 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose3DPDFGaussian.h>
 
-#include "dlo/export/atomic_file.h"
+#include "dlo/files/atomic_file.h"
 #include "dlo/mrpt/pose_conversion.h"
 
 namespace dlo {

@@ -1,6 +1,5 @@
 #include "dlo/export/trajectory_export.h"
 
-#include "dlo/export/atomic_file.h"
 #include "dlo/metrics/trajectory_io.h"
 
 namespace dlo {
@@ -11,21 +10,13 @@ metrics::Trajectory frameTrajectory(const SlamMap& map) {
   return t;
 }
 
-// The metrics writers are atomic themselves and name `path`; only the exception type changes.
+// The metrics writers go through dlo::writeAtomically: they throw the OutputError naming `path`.
 void exportTrajectoryTum(const SlamMap& map, const std::string& path) {
-  try {
-    metrics::writeTumTrajectory(path, frameTrajectory(map));
-  } catch (const std::runtime_error& e) {
-    throw ExportError(e.what());
-  }
+  metrics::writeTumTrajectory(path, frameTrajectory(map));
 }
 
 void exportTrajectoryKitti(const SlamMap& map, const std::string& path) {
-  try {
-    metrics::writeKittiTrajectory(path, frameTrajectory(map));
-  } catch (const std::runtime_error& e) {
-    throw ExportError(e.what());
-  }
+  metrics::writeKittiTrajectory(path, frameTrajectory(map));
 }
 
 }  // namespace dlo

@@ -4,10 +4,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <stdexcept>
+
+#include "dlo/files/atomic_file.h"
 
 namespace dlo::metrics {
 
@@ -58,28 +59,16 @@ void forEachLine(const std::string& path, const std::function<void(const Line&)>
   }
 }
 
-/// Writes through `<path>.tmp` + rename, so readers never see a half-written file. Errors name
-/// `path`, the file the caller asked for, not the temporary one.
+/// Writes through dlo::writeAtomically with a stdio stream for `body`. The reasons fill the
+/// OutputError's "cannot write 'path' (reason)."
 void writeAtomically(const std::string& path, const std::function<void(std::FILE*)>& body) {
-  const std::string temp = path + ".tmp";
-  std::FILE* f = std::fopen(temp.c_str(), "w");
-  if (!f) {
-    throw std::runtime_error("cannot write '" + path +
-                             "' (its folder is missing or not writable).");
-  }
-  body(f);
-  const bool ok = !std::ferror(f);
-  if (std::fclose(f) != 0 || !ok) {
-    std::remove(temp.c_str());
-    throw std::runtime_error("cannot write '" + path + "' (disk full?).");
-  }
-  std::error_code ec;
-  std::filesystem::rename(temp, path, ec);
-  if (ec) {
-    std::remove(temp.c_str());
-    throw std::runtime_error("cannot write '" + path +
-                             "' (renaming its temporary file failed: " + ec.message() + ").");
-  }
+  dlo::writeAtomically(path, [&](const std::string& temp) {
+    std::FILE* f = std::fopen(temp.c_str(), "w");
+    if (!f) throw std::runtime_error("its folder is missing or not writable");
+    body(f);
+    const bool ok = !std::ferror(f);
+    if (std::fclose(f) != 0 || !ok) throw std::runtime_error("disk full?");
+  });
 }
 
 }  // namespace
@@ -167,9 +156,9 @@ std::vector<double> readTimestamps(const std::string& path) {
   return out;
 }
 
-void writeTumTrajectory(const std::string& path, const Trajectory& trajectory) {
+void writeTumTrajectory(const std::string& path, const Trajectory& trajectory, TumHeader header) {
   writeAtomically(path, [&](std::FILE* f) {
-    std::fprintf(f, "# t x y z qx qy qz qw\n");
+    if (header == TumHeader::kColumnNames) std::fprintf(f, "# t x y z qx qy qz qw\n");
     for (size_t i = 0; i < trajectory.size(); ++i) {
       const Eigen::Vector3d t = trajectory.poses[i].translation();
       const Eigen::Quaterniond q(trajectory.poses[i].rotation());

@@ -1,6 +1,6 @@
 #include "dlo/mrpt/dlo_config.h"
 
-#include "dlo/mrpt/input_error.h"
+#include "dlo/files/error.h"
 #include "dlo/mrpt/param_table.h"
 
 namespace dlo {

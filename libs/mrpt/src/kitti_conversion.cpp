@@ -2,17 +2,17 @@
 
 #include <mrpt/maps/CPointsMapXYZI.h>
 #include <mrpt/obs/CObservationPointCloud.h>
+#include <cmath>
 #include <cstdio>
 
+#include "dlo/files/error.h"
+#include "dlo/formats/kitti_bin.h"
+#include "dlo/formats/kitti_folder_writer.h"
+#include "dlo/formats/kitti_sequence.h"
 #include "dlo/metrics/timestamp_matching.h"
 #include "dlo/metrics/trajectory_io.h"
-#include "dlo/mrpt/input_error.h"
-#include "dlo/mrpt/kitti_bin.h"
-#include "dlo/mrpt/kitti_folder_writer.h"
-#include "dlo/mrpt/kitti_sequence.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 #include "dlo/mrpt/rawlog_writer.h"
-#include "dlo/mrpt/tum_file.h"
 
 namespace dlo {
 
@@ -45,6 +45,25 @@ std::vector<Eigen::Isometry3d> posesAtTimes(const metrics::Trajectory& ground_tr
 }
 
 }  // namespace
+
+size_t loadKittiBinXYZI(const std::string& path, mrpt::maps::CPointsMapXYZI& map) {
+  const std::vector<float> r = readKittiBinRecords(path);
+  const size_t n = r.size() / 4;
+  map.clear();
+  map.reserve(n);
+  size_t dropped = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const float* v = &r[4 * i];
+    if (!(std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]))) {
+      ++dropped;
+      continue;
+    }
+    map.insertPointFast(v[0], v[1], v[2]);
+    map.setPointIntensity(map.size() - 1, std::isfinite(v[3]) ? v[3] : 0.0f);
+  }
+  map.mark_as_modified();
+  return dropped;
+}
 
 KittiConversionResult convertKittiSequence(const std::string& seq_dir,
                                            const std::string& out_rawlog, const std::string& gt_tum,
@@ -81,7 +100,10 @@ KittiConversionResult convertKittiSequence(const std::string& seq_dir,
   }
   writer.commit();
   if (!gt_tum.empty()) {
-    writeTumTrajectory(gt_tum, seq.times, seq.lidar_poses);
+    metrics::Trajectory ground_truth;
+    ground_truth.times = seq.times;
+    ground_truth.poses = seq.lidar_poses;
+    metrics::writeTumTrajectory(gt_tum, ground_truth, metrics::TumHeader::kNone);
     result.poses = seq.lidar_poses.size();
   }
   return result;

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <exception>
 
-#include "dlo/mrpt/kitti_bin.h"
+#include "dlo/formats/kitti_bin.h"
 
 namespace dlo {
 

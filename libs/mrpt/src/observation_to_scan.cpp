@@ -9,7 +9,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "dlo/mrpt/input_error.h"
+#include "dlo/files/error.h"
 
 namespace dlo {
 

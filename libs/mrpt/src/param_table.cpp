@@ -6,7 +6,7 @@
 #include <limits>
 #include <sstream>
 
-#include "dlo/mrpt/input_error.h"
+#include "dlo/files/error.h"
 
 namespace dlo::param_text {
 

@@ -1,6 +1,6 @@
 #include "dlo/mrpt/pcap_conversion.h"
 
-#include "dlo/mrpt/input_error.h"
+#include "dlo/files/error.h"
 #include "dlo/mrpt/rawlog_writer.h"
 
 namespace dlo {

@@ -1,8 +1,5 @@
 #include "dlo/mrpt/point_conversion.h"
 
-#include <mrpt/obs/CObservation3DRangeScan.h>
-#include <mrpt/obs/CObservationPointCloud.h>
-#include <mrpt/obs/CObservationVelodyneScan.h>
 #include <cmath>
 
 namespace dlo {
@@ -30,37 +27,6 @@ PointCloud toPointCloud(const mrpt::maps::CPointsMap& map) {
   const auto& zs = map.getPointsBufferRef_z();
   appendTransformed(mrpt::poses::CPose3D(), xs.data(), ys.data(), zs.data(), xs.size(), out);
   return out;
-}
-
-bool observationToPointCloud(const mrpt::obs::CObservation& obs, PointCloud& out) {
-  out.clear();
-  if (const auto* velo = dynamic_cast<const mrpt::obs::CObservationVelodyneScan*>(&obs)) {
-    const mrpt::obs::CObservationVelodyneScan* src = velo;
-    mrpt::obs::CObservationVelodyneScan copy;
-    if (velo->point_cloud.size() == 0) {
-      copy = *velo;
-      copy.generatePointCloud();
-      src = &copy;
-    }
-    const auto& pc = src->point_cloud;
-    appendTransformed(src->sensorPose, pc.x.data(), pc.y.data(), pc.z.data(), pc.x.size(), out);
-    return true;
-  }
-  if (const auto* pco = dynamic_cast<const mrpt::obs::CObservationPointCloud*>(&obs)) {
-    if (!pco->pointcloud) return true;
-    const auto& m = *pco->pointcloud;
-    appendTransformed(pco->sensorPose, m.getPointsBufferRef_x().data(),
-                      m.getPointsBufferRef_y().data(), m.getPointsBufferRef_z().data(), m.size(),
-                      out);
-    return true;
-  }
-  if (const auto* r3d = dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(&obs)) {
-    if (!r3d->hasPoints3D) return false;
-    appendTransformed(r3d->sensorPose, r3d->points3D_x.data(), r3d->points3D_y.data(),
-                      r3d->points3D_z.data(), r3d->points3D_x.size(), out);
-    return true;
-  }
-  return false;
 }
 
 }  // namespace dlo

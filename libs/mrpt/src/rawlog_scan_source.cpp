@@ -10,7 +10,7 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "dlo/mrpt/input_error.h"
+#include "dlo/files/error.h"
 #include "dlo/mrpt/observation_to_scan.h"
 
 namespace dlo {

@@ -2,27 +2,24 @@
 
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/io/CFileOutputStream.h>
-#include <filesystem>
 
-#include "dlo/mrpt/input_error.h"
+#include "dlo/files/error.h"
 
 namespace dlo {
 
-namespace fs = std::filesystem;
-
-RawlogWriter::RawlogWriter(const std::string& path) : path_(path), temp_path_(path + ".tmp") {
+RawlogWriter::RawlogWriter(const std::string& path) : output_(path) {
   const bool gz = path.size() >= 3 && path.compare(path.size() - 3, 3, ".gz") == 0;
   if (gz) {
     auto out = std::make_unique<mrpt::io::CFileGZOutputStream>();
-    if (!out->open(temp_path_)) {
-      throw InputError("cannot create '" + temp_path_ + "' (is the folder writable?).");
+    if (!out->open(output_.temp())) {
+      throw OutputError("cannot create '" + output_.temp() + "' (is the folder writable?).");
     }
     archive_ = mrpt::serialization::archiveUniquePtrFrom(*out);
     out_ = std::move(out);
   } else {
     auto out = std::make_unique<mrpt::io::CFileOutputStream>();
-    if (!out->open(temp_path_)) {
-      throw InputError("cannot create '" + temp_path_ + "' (is the folder writable?).");
+    if (!out->open(output_.temp())) {
+      throw OutputError("cannot create '" + output_.temp() + "' (is the folder writable?).");
     }
     archive_ = mrpt::serialization::archiveUniquePtrFrom(*out);
     out_ = std::move(out);
@@ -30,32 +27,21 @@ RawlogWriter::RawlogWriter(const std::string& path) : path_(path), temp_path_(pa
 }
 
 RawlogWriter::~RawlogWriter() {
-  if (committed_) return;
+  // Flushed and closed before output_ renames or removes the file.
   archive_.reset();
-  out_.reset();  // flushes and closes
-  std::error_code ec;
-  if (count_ > 0) {
-    fs::rename(temp_path_, partialPath(), ec);
-  } else {
-    fs::remove(temp_path_, ec);
-  }
+  out_.reset();
 }
 
 void RawlogWriter::write(const mrpt::obs::CObservation& obs) {
   archive_->WriteObject(&obs);
   ++count_;
+  output_.setKeepPartial(true);
 }
 
 void RawlogWriter::commit() {
   archive_.reset();
   out_.reset();
-  std::error_code ec;
-  fs::rename(temp_path_, path_, ec);
-  if (ec) {
-    throw InputError("cannot rename '" + temp_path_ + "' to '" + path_ + "': " + ec.message() +
-                     ".");
-  }
-  committed_ = true;
+  output_.commit();
 }
 
 }  // namespace dlo

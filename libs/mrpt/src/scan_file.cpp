@@ -1,14 +1,12 @@
 #include "dlo/mrpt/scan_file.h"
 
-#include <mrpt/io/CFileGZInputStream.h>
 #include <algorithm>
 #include <cctype>
-#include <cmath>
 #include <fstream>
 
-#include "dlo/mrpt/input_error.h"
-#include "dlo/mrpt/kitti_bin.h"
-#include "dlo/mrpt/ply_file.h"
+#include "dlo/files/error.h"
+#include "dlo/formats/kitti_bin.h"
+#include "dlo/formats/ply_file.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 
 namespace dlo {
@@ -49,24 +47,6 @@ ScanFormat scanFormatFromPath(const std::string& path) {
   if (endsWith(p, ".ply")) return ScanFormat::kPly;
   if (endsWith(p, ".rawlog") || endsWith(p, ".rawlog.gz")) return ScanFormat::kRawlog;
   return ScanFormat::kUnknown;
-}
-
-PointCloud loadKittiBin(const std::string& path, size_t* dropped_non_finite) {
-  const std::vector<float> records = readKittiBinRecords(path);
-  const size_t n = records.size() / 4;
-  PointCloud out;
-  out.reserve(n);
-  size_t dropped = 0;
-  for (size_t i = 0; i < n; ++i) {
-    const float* v = &records[4 * i];
-    if (std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2])) {
-      out.emplace_back(v[0], v[1], v[2]);
-    } else {
-      ++dropped;
-    }
-  }
-  if (dropped_non_finite) *dropped_non_finite = dropped;
-  return out;
 }
 
 PointCloud loadScanFile(const std::string& path) {

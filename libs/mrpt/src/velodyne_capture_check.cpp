@@ -6,7 +6,7 @@
 #include <fstream>
 #include <vector>
 
-#include "dlo/mrpt/input_error.h"
+#include "dlo/files/error.h"
 
 namespace dlo {
 

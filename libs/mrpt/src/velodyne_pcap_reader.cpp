@@ -6,7 +6,7 @@
 #include <cctype>
 #include <fstream>
 
-#include "dlo/mrpt/input_error.h"
+#include "dlo/files/error.h"
 #include "dlo/mrpt/observation_to_scan.h"
 #include "dlo/mrpt/velodyne_capture_check.h"
 

@@ -2,7 +2,7 @@
 
 #include <mrpt/config/CConfigFileMemory.h>
 
-#include "dlo/mrpt/input_error.h"
+#include "dlo/files/error.h"
 #include "dlo/slam/slam_config.h"
 #include "sensor_profiles_data.h"
 

@@ -10,12 +10,6 @@
 
 namespace dlo {
 
-/// Degrees of freedom estimated.
-enum class Dof {
-  k3 = 3,  ///< x, y, yaw (the paper's case); z, roll and pitch stay at the initial guess
-  k6 = 6,  ///< full SE(3): z, roll and pitch observed from the height field itself
-};
-
 /// Solver parameters (INI section [solver]).
 struct SolverParams {
   int dof = 3;                         ///< 3 or 6

@@ -31,7 +31,7 @@ struct ExportReport {
 /// map.simplemap, heightmap.bin, heightmap.png, map.ply, map.3Dscene and (with options.render)
 /// map_render.png. Each file is written atomically; a file that fails (e.g. rendering without
 /// EGL) becomes a warning and does not prevent the others.
-/// \throws ExportError naming `dir` if it does not exist or is not writable (nothing is written).
+/// \throws OutputError naming `dir` if it does not exist or is not writable (nothing is written).
 ExportReport exportAll(const SlamMap& map, const std::string& dir,
                        const ExportOptions& options = ExportOptions());
 

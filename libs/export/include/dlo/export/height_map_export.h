@@ -50,7 +50,7 @@ class HeightGridAccumulator {
 /// Serialises `grid` (usually HeightGridAccumulator::grid() over forEachWorldCloud()) with
 /// mrpt::io::CFileGZOutputStream and archiveFrom(...) << grid, atomically; read it back with
 /// CFileGZInputStream and archiveFrom(...) >> grid.
-/// \throws ExportError naming `path`.
+/// \throws OutputError naming `path`.
 void exportHeightGridMap(const mrpt::maps::CHeightGridMap2D& grid, const std::string& path);
 
 }  // namespace dlo

@@ -11,7 +11,7 @@ namespace dlo {
 /// Writes `points` (world frame) as a binary little-endian PLY with one vertex per point:
 /// float x, y, z and uint count (the number of raw points the centroid stands for), atomically.
 /// CloudCompare, MeshLab, Open3D and dlo::loadPlyFile read it.
-/// \throws ExportError naming `path`.
+/// \throws OutputError naming `path`.
 void exportPly(const WeightedCloud& points, const std::string& path);
 
 }  // namespace dlo

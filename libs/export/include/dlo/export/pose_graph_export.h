@@ -16,7 +16,7 @@ mrpt::graphs::CNetworkOfPoses3DInf toPoseGraph(const SlamMap& map);
 
 /// Writes toPoseGraph() in the TORO/g2o text format of CNetworkOfPoses::saveToTextFile
 /// (VERTEX3 / EDGE3 lines), atomically; `graph-slam --3d -i FILE` reads it.
-/// \throws ExportError naming `path`.
+/// \throws OutputError naming `path`.
 void exportPoseGraph(const SlamMap& map, const std::string& path);
 
 }  // namespace dlo

@@ -29,12 +29,12 @@ mrpt::opengl::COpenGLScene::Ptr buildMapScene(const SlamMap& map, const Weighted
                                               const SceneOptions& options = SceneOptions());
 
 /// Saves `scene` with COpenGLScene::saveToFile (gz-compressed), atomically.
-/// \throws ExportError naming `path`.
+/// \throws OutputError naming `path`.
 void exportScene(const mrpt::opengl::COpenGLScene& scene, const std::string& path);
 
 /// Renders `scene` from its main viewport's camera off-screen with mrpt::opengl::CFBORender
 /// (EGL: works without a display) and writes a PNG, atomically.
-/// \throws ExportError naming `path` if no EGL/OpenGL context can be created or rendering fails;
+/// \throws OutputError naming `path` if no EGL/OpenGL context can be created or rendering fails;
 ///         callers can treat it as a warning.
 void renderScenePng(const mrpt::opengl::COpenGLScene& scene, const std::string& path,
                     const SceneOptions& options = SceneOptions());

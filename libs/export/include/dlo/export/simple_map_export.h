@@ -16,7 +16,7 @@ namespace dlo {
 mrpt::maps::CSimpleMap toSimpleMap(const SlamMap& map);
 
 /// Writes toSimpleMap() with CSimpleMap::saveToFile (gz-compressed), atomically.
-/// \throws ExportError naming `path`.
+/// \throws OutputError naming `path`.
 void exportSimpleMap(const SlamMap& map, const std::string& path);
 
 }  // namespace dlo

@@ -15,11 +15,11 @@ namespace dlo {
 metrics::Trajectory frameTrajectory(const SlamMap& map);
 
 /// Writes frameTrajectory() as a TUM file ("t x y z qx qy qz qw"), atomically.
-/// \throws ExportError naming `path`.
+/// \throws OutputError naming `path`.
 void exportTrajectoryTum(const SlamMap& map, const std::string& path);
 
 /// Writes frameTrajectory() as a KITTI pose file (3x4 row-major per line, no times), atomically.
-/// \throws ExportError naming `path`.
+/// \throws OutputError naming `path`.
 void exportTrajectoryKitti(const SlamMap& map, const std::string& path);
 
 }  // namespace dlo

@@ -38,10 +38,18 @@ Trajectory readTrajectory(const std::string& path, const std::vector<double>& ki
 /// \throws std::runtime_error naming the file and line of a malformed line.
 std::vector<double> readTimestamps(const std::string& path);
 
-/// Writes a TUM file (9 decimals: nanosecond stamps, sub-millimetre positions). The file is
-/// written to `path`.tmp and renamed, so `path` is either complete or untouched.
-/// \throws std::runtime_error naming the file if it cannot be written.
-void writeTumTrajectory(const std::string& path, const Trajectory& trajectory);
+/// What a TUM file written by writeTumTrajectory() starts with.
+enum class TumHeader {
+  kColumnNames,  ///< a comment line "# t x y z qx qy qz qw"
+  kNone,         ///< nothing: the first pose is the first line
+};
+
+/// Writes a TUM file (9 decimals: nanosecond stamps, sub-millimetre positions), the one TUM
+/// writer of DLO. The file is written atomically (dlo::writeAtomically), so `path` is either
+/// complete or untouched.
+/// \throws dlo::OutputError (a std::runtime_error) naming the file if it cannot be written.
+void writeTumTrajectory(const std::string& path, const Trajectory& trajectory,
+                        TumHeader header = TumHeader::kColumnNames);
 
 /// Writes a KITTI pose file (12 numbers per line, timestamps are not stored), atomically like
 /// writeTumTrajectory().

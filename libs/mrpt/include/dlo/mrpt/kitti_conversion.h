@@ -2,6 +2,8 @@
 /// \brief A KITTI odometry sequence folder to an MRPT rawlog and a TUM ground truth, and back.
 #pragma once
 
+#include <mrpt/maps/CPointsMapXYZI.h>
+
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -9,6 +11,12 @@
 #include "dlo/mrpt/scan_source.h"
 
 namespace dlo {
+
+/// Loads a KITTI Velodyne file (readKittiBinRecords()) into `map` (replacing its contents) with
+/// reflectance as intensity. Used instead of CPointsMapXYZI::loadFromKittiVelodyneFile, which
+/// neither reports why a file is bad nor drops non-finite points. \return the number of
+/// non-finite points dropped. \throws InputError as readKittiBinRecords().
+size_t loadKittiBinXYZI(const std::string& path, mrpt::maps::CPointsMapXYZI& map);
 
 /// What convertKittiSequence() did, for the summary line of the converter.
 struct KittiConversionResult {

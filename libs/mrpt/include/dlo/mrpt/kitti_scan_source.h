@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "dlo/mrpt/kitti_sequence.h"
+#include "dlo/formats/kitti_sequence.h"
 #include "dlo/mrpt/scan_source.h"
 
 namespace dlo {

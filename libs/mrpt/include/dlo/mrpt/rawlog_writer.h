@@ -8,6 +8,8 @@
 #include <memory>
 #include <string>
 
+#include "dlo/files/atomic_file.h"
+
 namespace dlo {
 
 /// Streams observations into `path` (observation-only layout; gzip-compressed if the name ends in
@@ -16,7 +18,7 @@ namespace dlo {
 /// part way), whatever was written is kept as `path + ".partial"` rather than lost.
 class RawlogWriter {
  public:
-  /// \throws InputError naming the file if the temporary file cannot be created.
+  /// \throws OutputError naming the file if the temporary file cannot be created.
   explicit RawlogWriter(const std::string& path);
   ~RawlogWriter();
   RawlogWriter(const RawlogWriter&) = delete;
@@ -28,19 +30,17 @@ class RawlogWriter {
   /// Observations written so far.
   size_t count() const { return count_; }
 
-  /// Closes the file and renames it to the final path. \throws InputError if renaming fails.
+  /// Closes the file and renames it to the final path. \throws OutputError if renaming fails.
   void commit();
 
   /// Where the observations written so far are kept if commit() is never called.
-  std::string partialPath() const { return path_ + ".partial"; }
+  std::string partialPath() const { return output_.partialPath(); }
 
  private:
-  std::string path_;
-  std::string temp_path_;
+  AtomicOutput output_;  ///< declared first: destroyed after the stream is closed
   std::unique_ptr<mrpt::io::CStream> out_;
   std::unique_ptr<mrpt::serialization::CArchive> archive_;
   size_t count_ = 0;
-  bool committed_ = false;
 };
 
 }  // namespace dlo

@@ -1,6 +1,6 @@
 // dlo::CommandLine: both option syntaxes, flags, repeatable options, numbers, positionals, help,
 // and the usage errors with their messages.
-#include "dlo/mrpt/command_line.h"
+#include "dlo/app/command_line.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "dlo/mrpt/app_main.h"
+#include "dlo/app/app_main.h"
 
 namespace dlo {
 namespace {
@@ -41,7 +41,7 @@ std::string usageError(F f) {
   try {
     f();
   } catch (const UsageError& e) {
-    return e.message;
+    return e.what();
   }
   return "";
 }

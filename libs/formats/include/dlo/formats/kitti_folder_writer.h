@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "dlo/core/point_cloud.h"
+#include "dlo/files/atomic_file.h"
 
 namespace dlo {
 
@@ -20,14 +21,13 @@ namespace dlo {
 /// error part way) keeps what it wrote as `dir + ".partial"`.
 class KittiFolderWriter {
  public:
-  /// \throws InputError naming the folder if `dir` exists and is not an empty folder, or if the
-  ///         temporary folder cannot be created.
+  /// \throws InputError naming the folder if `dir` exists and is not an empty folder;
+  ///         OutputError if the temporary folder cannot be created.
   explicit KittiFolderWriter(const std::string& dir);
-  ~KittiFolderWriter();
   KittiFolderWriter(const KittiFolderWriter&) = delete;
   KittiFolderWriter& operator=(const KittiFolderWriter&) = delete;
 
-  /// Appends one scan taken at `time` (seconds). \throws InputError naming the file if it
+  /// Appends one scan taken at `time` (seconds). \throws OutputError naming the file if it
   /// cannot be written.
   void write(double time, const PointCloud& points);
 
@@ -35,18 +35,16 @@ class KittiFolderWriter {
   size_t count() const { return times_.size(); }
 
   /// Writes times.txt and, if `poses` is not empty, poses.txt, then renames the folder to its
-  /// final name. \throws InputError if `poses` is neither empty nor one per scan, or a file
-  /// cannot be written or renamed.
+  /// final name. \throws InputError if `poses` is neither empty nor one per scan; OutputError if
+  /// a file cannot be written or renamed.
   void commit(const std::vector<Eigen::Isometry3d>& poses = {});
 
   /// Where the scans written so far are kept if commit() is never called.
-  std::string partialPath() const { return dir_ + ".partial"; }
+  std::string partialPath() const { return output_.partialPath(); }
 
  private:
-  std::string dir_;
-  std::string temp_dir_;
+  AtomicOutput output_;
   std::vector<double> times_;
-  bool committed_ = false;
 };
 
 }  // namespace dlo

@@ -1,4 +1,4 @@
-#include "dlo/mrpt/progress_bar.h"
+#include "dlo/app/progress_bar.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,8 +1,8 @@
-#include "dlo/export/png_file.h"
+#include "dlo/formats/png_file.h"
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "dlo/export/atomic_file.h"
+#include "dlo/files/atomic_file.h"
 
 namespace dlo {
 
@@ -14,7 +14,7 @@ void writePng(const cv::Mat& image, const std::string& path) {
   } catch (const cv::Exception&) {
     ok = false;
   }
-  if (!ok) throw ExportError("cannot write '" + path + "' (the image could not be encoded).");
+  if (!ok) throw OutputError("cannot write '" + path + "' (the image could not be encoded).");
   writeBytesAtomically(path, bytes);
 }
 

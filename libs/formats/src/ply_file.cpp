@@ -1,4 +1,4 @@
-#include "dlo/mrpt/ply_file.h"
+#include "dlo/formats/ply_file.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include <sstream>
 #include <vector>
 
-#include "dlo/mrpt/input_error.h"
+#include "dlo/files/error.h"
 
 namespace dlo {
 

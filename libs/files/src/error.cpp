@@ -1,4 +1,4 @@
-#include "dlo/mrpt/input_error.h"
+#include "dlo/files/error.h"
 
 #include <sstream>
 

@@ -6,8 +6,8 @@
 #include <cstring>
 #include <fstream>
 
-#include "dlo/mrpt/input_error.h"
-#include "dlo/mrpt/ply_file.h"
+#include "dlo/files/error.h"
+#include "dlo/formats/ply_file.h"
 
 namespace dlo {
 namespace {

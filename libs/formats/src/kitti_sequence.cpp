@@ -1,4 +1,4 @@
-#include "dlo/mrpt/kitti_sequence.h"
+#include "dlo/formats/kitti_sequence.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "dlo/mrpt/input_error.h"
+#include "dlo/files/error.h"
 
 namespace dlo {
 

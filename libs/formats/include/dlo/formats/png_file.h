@@ -9,7 +9,7 @@ namespace dlo {
 
 /// Encodes `image` (8-bit BGR or grey) as PNG and writes it atomically (see writeAtomically();
 /// cv::imwrite would pick the format from the ".tmp" extension of the temporary file).
-/// \throws ExportError naming `path`.
+/// \throws OutputError naming `path`.
 void writePng(const cv::Mat& image, const std::string& path);
 
 }  // namespace dlo

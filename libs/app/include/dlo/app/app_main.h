@@ -4,17 +4,14 @@
 #pragma once
 
 #include <functional>
-#include <string>
+
+#include "dlo/files/error.h"
 
 namespace dlo {
 
-/// A command-line mistake (unknown option, missing value): reported with exit status 2.
-struct UsageError {
-  std::string message;
-};
-
 /// Runs a program's body and turns what it throws into one line on stderr starting with
-/// "`name`: " and an exit status: UsageError 2, InputError 1 (a bad file or parameter), any
+/// "`name`: " and an exit status: UsageError 2 (a command-line mistake), any other dlo::Error 1
+/// (InputError: a bad file or parameter; OutputError: an output that cannot be written), any
 /// other exception 1 (only its first line: MRPT exceptions carry a stack trace).
 /// \return the body's own status when it returns normally.
 int runApp(const char* name, const std::function<int()>& body);

@@ -1,10 +1,12 @@
 /// \file kitti_bin.h
-/// \brief Reading KITTI Velodyne `.bin` files (plain or gzip) with their reflectance.
+/// \brief Reading KITTI Velodyne `.bin` files (plain or gzip): 4 floats per point.
 #pragma once
 
-#include <mrpt/maps/CPointsMapXYZI.h>
+#include <cstddef>
 #include <string>
 #include <vector>
+
+#include "dlo/core/point_cloud.h"
 
 namespace dlo {
 
@@ -14,10 +16,9 @@ namespace dlo {
 ///         (decompressed) size is not a multiple of 16 bytes.
 std::vector<float> readKittiBinRecords(const std::string& path);
 
-/// Loads a KITTI Velodyne file into `map` (replacing its contents) with reflectance as intensity.
-/// Used instead of CPointsMapXYZI::loadFromKittiVelodyneFile, which neither reports why a file
-/// is bad nor drops non-finite points. \return the number of non-finite points dropped.
+/// Reads a KITTI Velodyne file (float32 x, y, z, reflectance; plain or gzip-compressed) as
+/// points. Non-finite points are dropped (counted in `dropped_non_finite` when given).
 /// \throws InputError as readKittiBinRecords().
-size_t loadKittiBinXYZI(const std::string& path, mrpt::maps::CPointsMapXYZI& map);
+PointCloud loadKittiBin(const std::string& path, size_t* dropped_non_finite = nullptr);
 
 }  // namespace dlo

@@ -1,9 +1,8 @@
-#include "dlo/mrpt/app_main.h"
+#include "dlo/app/app_main.h"
 
 #include <exception>
 #include <iostream>
-
-#include "dlo/mrpt/input_error.h"
+#include <string>
 
 namespace dlo {
 
@@ -11,9 +10,9 @@ int runApp(const char* name, const std::function<int()>& body) {
   try {
     return body();
   } catch (const UsageError& e) {
-    std::cerr << name << ": " << e.message << "\n";
+    std::cerr << name << ": " << e.what() << "\n";
     return 2;
-  } catch (const InputError& e) {
+  } catch (const Error& e) {
     std::cerr << name << ": " << e.what() << "\n";
     return 1;
   } catch (const std::exception& e) {

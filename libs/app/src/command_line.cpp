@@ -1,11 +1,11 @@
-#include "dlo/mrpt/command_line.h"
+#include "dlo/app/command_line.h"
 
 #include <cmath>
 #include <exception>
 #include <stdexcept>
 #include <utility>
 
-#include "dlo/mrpt/app_main.h"
+#include "dlo/files/error.h"
 
 namespace dlo {
 
