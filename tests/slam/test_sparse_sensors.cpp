@@ -102,12 +102,14 @@ void checkSparseDrive(const std::string& sensor, int seed) {
   EXPECT_EQ(chosen.used.solver.coarse_step, 0.0);
   EXPECT_LT(chosen.ate, 0.6);
 
-  // The dense profile (0.1 m cells and the keyframe map) on the same drive: 0.41 m against
-  // 0.24 m on the VLP-16 drive (0.82 m against 0.25 m before registrations far from the
-  // prediction were decided by the scan instead of rejected, which helped the dense grid most).
+  // The dense profile (0.1 m cells and the keyframe map) runs on the same drive. Which profile
+  // fits sparse sensors is decided on the evaluation matrix, not on one drive: over its 84
+  // VLP-16 and HDL-32 drives the dense profile drifted 2.4 and 3.5 times more (geometric
+  // means; docs/benchmarks.md), though on this VLP-16 drive it has done better since keyframes
+  // stopped following the fit (0.10 m against 0.16 m; on the HDL-32 drive 1.25 m against
+  // 0.14 m). Here it only shows that the profiles differ, and prints both.
   const ProfileRun dense = runWithProfile(d, "dense");
   EXPECT_EQ(dense.used.solver.coarse_step, SlamParams().registration.solver.coarse_step);
-  EXPECT_GT(dense.ate, 1.5 * chosen.ate);
   std::printf("%s seed %d: ATE %.3f m (sparse profile), %.3f m (dense profile)\n", sensor.c_str(),
               seed, chosen.ate, dense.ate);
   if (!std::getenv("DLO_KEEP_TEST_OUTPUT")) fs::remove_all(d.dir);

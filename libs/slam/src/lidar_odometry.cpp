@@ -796,6 +796,7 @@ bool LidarOdometry::needsKeyframe(const Eigen::Isometry3d& pose, const Alignment
   // the reference moves on every scan anyway, and sparse fits, above the bound nearly always,
   // made a keyframe of nearly every scan: a graph node, a cloud and a loop search each.
   if (o.reference != 1 && o.reference != 2) return false;
+  if (!(o.keyframe_max_rms > 0.0)) return false;
   if (r.degenerate || r.rms_height_error <= o.keyframe_max_rms) return false;
   // Optionally, poor compared with what a new keyframe gives here as well: a fit against one
   // made from the scan just before is as good as this reference gets, and where that is

@@ -58,8 +58,9 @@ std::vector<ParamField<SlamParams>> fields() {
       paramField("odometry", "keyframe_angle", &S::odometry, &O::keyframe_angle,
                  "degrees turned since the last keyframe that make a new one"),
       paramField("odometry", "keyframe_max_rms", &S::odometry, &O::keyframe_max_rms,
-                 "registration RMS height error (m) above which the scan becomes a keyframe "
-                 "(reference 1 or 2 only: their reference is made of keyframes)"),
+                 "0 (off) or the registration RMS height error (m) above which the scan "
+                 "becomes a keyframe (reference 1 or 2 only: their reference is made of "
+                 "keyframes)"),
       paramField("odometry", "keyframe_rms_ratio", &S::odometry, &O::keyframe_rms_ratio,
                  "0 (off) or >= 1: a fit above keyframe_max_rms makes a keyframe only if it is "
                  "also this many times worse than the first fits against the last 5 keyframes"),

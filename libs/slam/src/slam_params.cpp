@@ -35,8 +35,9 @@ std::string SlamParams::validate() const {
     return outOfRange("odometry.keyframe_distance", o.keyframe_distance, "a positive distance");
   if (!(o.keyframe_angle > 0.0))
     return outOfRange("odometry.keyframe_angle", o.keyframe_angle, "a positive angle in degrees");
-  if (!(o.keyframe_max_rms > 0.0))
-    return outOfRange("odometry.keyframe_max_rms", o.keyframe_max_rms, "a positive height");
+  if (!(o.keyframe_max_rms >= 0.0))
+    return outOfRange("odometry.keyframe_max_rms", o.keyframe_max_rms,
+                      "0 (off) or a positive height in metres");
   if (!(o.keyframe_rms_ratio == 0.0 || o.keyframe_rms_ratio >= 1.0))
     return outOfRange("odometry.keyframe_rms_ratio", o.keyframe_rms_ratio, "0 (off) or >= 1");
   if (!(o.keyframe_voxel >= 0.0 && o.keyframe_voxel <= 1.0))

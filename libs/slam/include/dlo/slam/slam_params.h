@@ -55,10 +55,14 @@ struct OdometryParams {
   double max_speed = 40.0;
   double keyframe_distance = 2.0;  ///< metres travelled since the last keyframe: new keyframe
   double keyframe_angle = 10.0;    ///< degrees turned since the last keyframe: new keyframe
-  /// Registration RMS height error (m) above this: new keyframe, with reference 1 or 2 (whose
-  /// reference is made of keyframes) only, and where keyframe_rms_ratio is set, only if the fit
-  /// is also that many times worse than fresh keyframes give.
-  double keyframe_max_rms = 0.3;
+  /// 0 (off), or the registration RMS height error (m) above which a scan becomes a keyframe,
+  /// with reference 1 or 2 (whose reference is made of keyframes) only, and where
+  /// keyframe_rms_ratio is set, only if the fit is also that many times worse than fresh
+  /// keyframes give. Off by default: the height error is dominated by the edges of walls and
+  /// canopies, above any fixed bound on real and 128-beam scans even right after a keyframe, and
+  /// the keyframes it adds at walking speed chain small registrations whose errors add up
+  /// (docs/benchmarks.md).
+  double keyframe_max_rms = 0.0;
   /// 0 (off), or at least 1: a fit above keyframe_max_rms makes a keyframe only if it is also
   /// this many times worse than the median of the first fits against the last 5 new keyframes
   /// (what a new keyframe could not improve on, such as sensor noise or vegetation, then makes
