@@ -7,7 +7,7 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake ccache pkg-config
-  libmrpt-dev libeigen3-dev libopencv-dev zlib1g-dev
+  libmrpt-dev libeigen3-dev libopencv-dev zlib1g-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-format
   # fuzzing (scripts/run_fuzz.sh): clang, and libclang_rt.fuzzer with the ASan/UBSan runtimes,
