@@ -7,9 +7,11 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake ccache pkg-config
-  libmrpt-dev libeigen3-dev libopencv-dev zlib1g-dev
+  libmrpt-dev libeigen3-dev libopencv-dev zlib1g-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-format
+  # run_demo.sh and scripts/eval_matrix.py read report.json and metrics.json with Python's json
+  python3
   # fuzzing (scripts/run_fuzz.sh): clang, and libclang_rt.fuzzer with the ASan/UBSan runtimes,
   # which Debian 12's clang-14 only recommends
   clang libclang-rt-14-dev

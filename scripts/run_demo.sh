@@ -22,8 +22,13 @@ build/apps/dlo-slam/dlo-slam --input "$OUT/sim/sequence.rawlog" --out "$OUT/slam
   --gt "$OUT/sim/groundtruth.tum"
 
 # The accuracy block of report.json, one line per phase.
-awk '/"before_loop_closure"|"after_loop_closure"/ {
-       gsub(/^ +/, ""); gsub(/[{}"]/, ""); gsub(/,$/, ""); print "run_demo: " $0 }' \
-  "$OUT/slam/report.json"
+python3 - "$OUT/slam/report.json" <<'PY'
+import json, sys
+accuracy = json.load(open(sys.argv[1]))["accuracy"]
+for phase in ("before_loop_closure", "after_loop_closure"):
+    values = ", ".join(f"{k}: {v:.6g}" if v is not None else f"{k}: null"
+                       for k, v in accuracy[phase].items())
+    print(f"run_demo: {phase}: {values}")
+PY
 echo "run_demo: outputs (trajectory, pose graph, simplemap, height map, PLY, 3D scene, report)" \
   "in $OUT/slam"

@@ -2,12 +2,15 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <regex>
-#include <sstream>
+#include <limits>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "../test_data.h"
 #include "../test_process.h"
@@ -70,25 +73,17 @@ void writeAsciiPly(const PointCloud& cloud, const std::string& path, bool with_i
     f << p.x() << " " << p.y() << " " << p.z() << (with_intensity ? " 0\n" : "\n");
 }
 
-/// The number after `"key": ` in a JSON text (keys of this output are unique), or NaN.
-double jsonNumber(const std::string& json, const std::string& key) {
-  std::smatch m;
-  const std::regex re("\"" + key + "\": (-?[0-9][0-9.eE+-]*)");
-  return std::regex_search(json, m, re) ? std::stod(m[1]) : std::nan("");
+/// A number of the pose block: x, y, z, yaw_deg, pitch_deg, roll_deg.
+double poseValue(const nlohmann::json& json, const char* key) {
+  return json.at("pose").at(key).get<double>();
 }
 
-bool jsonBool(const std::string& json, const std::string& key) {
-  return json.find("\"" + key + "\": true") != std::string::npos;
-}
-
-std::vector<double> jsonCovariance(const std::string& json) {
+/// The 36 covariance entries, row-major; NaN where the output holds null (non-finite).
+std::vector<double> covarianceOf(const nlohmann::json& json) {
   std::vector<double> values;
-  const auto begin = json.find("\"covariance\": [");
-  const auto end = json.find(']', begin);
-  if (begin == std::string::npos || end == std::string::npos) return values;
-  std::stringstream s(json.substr(begin + 15, end - begin - 15));
-  std::string item;
-  while (std::getline(s, item, ',')) values.push_back(std::stod(item));
+  for (const nlohmann::json& v : json.at("covariance")) {
+    values.push_back(v.is_null() ? std::numeric_limits<double>::quiet_NaN() : v.get<double>());
+  }
   return values;
 }
 
@@ -122,15 +117,16 @@ class DloRegister : public ::testing::Test {
     return {ref, cur};
   }
 
-  /// A successful run printing exactly one JSON line, nothing on stderr.
-  std::string expectJson(const std::vector<std::string>& args) {
+  /// A successful run printing exactly one JSON line, nothing on stderr; the line parsed.
+  nlohmann::json expectJson(const std::vector<std::string>& args) {
     const RunResult r = runRegister(args, wd_);
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(r.err, "");
     EXPECT_EQ(lineCount(r.out), 1) << r.out;
-    EXPECT_EQ(r.out.front(), '{');
-    EXPECT_EQ(jsonCovariance(r.out).size(), 36u) << r.out;
-    return r.out;
+    const nlohmann::json json = nlohmann::json::parse(r.out);
+    EXPECT_TRUE(json.is_object()) << r.out;
+    EXPECT_EQ(covarianceOf(json).size(), 36u) << r.out;
+    return json;
   }
 
   /// A failed run: non-zero status, nothing on stdout, one line on stderr naming `what`.
@@ -143,14 +139,14 @@ class DloRegister : public ::testing::Test {
     EXPECT_NE(r.err.find(what), std::string::npos) << "expected '" << what << "' in: " << r.err;
   }
 
-  void expectPose(const std::string& json, double x, double y, double z, double yaw_deg,
+  void expectPose(const nlohmann::json& json, double x, double y, double z, double yaw_deg,
                   double pitch_deg, double roll_deg) {
-    EXPECT_NEAR(jsonNumber(json, "x"), x, 0.03) << json;
-    EXPECT_NEAR(jsonNumber(json, "y"), y, 0.03) << json;
-    EXPECT_NEAR(jsonNumber(json, "z"), z, 0.03) << json;
-    EXPECT_NEAR(jsonNumber(json, "yaw_deg"), yaw_deg, 0.1) << json;
-    EXPECT_NEAR(jsonNumber(json, "pitch_deg"), pitch_deg, 0.1) << json;
-    EXPECT_NEAR(jsonNumber(json, "roll_deg"), roll_deg, 0.1) << json;
+    EXPECT_NEAR(poseValue(json, "x"), x, 0.03) << json;
+    EXPECT_NEAR(poseValue(json, "y"), y, 0.03) << json;
+    EXPECT_NEAR(poseValue(json, "z"), z, 0.03) << json;
+    EXPECT_NEAR(poseValue(json, "yaw_deg"), yaw_deg, 0.1) << json;
+    EXPECT_NEAR(poseValue(json, "pitch_deg"), pitch_deg, 0.1) << json;
+    EXPECT_NEAR(poseValue(json, "roll_deg"), roll_deg, 0.1) << json;
   }
 
   Workdir wd_;
@@ -158,16 +154,16 @@ class DloRegister : public ::testing::Test {
 
 TEST_F(DloRegister, RecoversKnownMotionBetweenKittiFiles) {
   const auto [ref, cur] = writePair(poseFromXYZYPR(1.0, -0.5, 0.0, 5 * kDeg, 0, 0));
-  const std::string json = expectJson({ref, cur});
+  const nlohmann::json json = expectJson({ref, cur});
   expectPose(json, 1.0, -0.5, 0.0, 5.0, 0.0, 0.0);
-  EXPECT_TRUE(jsonBool(json, "converged")) << json;
-  EXPECT_FALSE(jsonBool(json, "degenerate")) << json;
-  EXPECT_GT(jsonNumber(json, "iterations"), 0);
-  EXPECT_GT(jsonNumber(json, "cells"), 0);
-  EXPECT_LT(jsonNumber(json, "rms_height_error"), 0.2);
+  EXPECT_EQ(json.at("converged"), true) << json;
+  EXPECT_EQ(json.at("degenerate"), false) << json;
+  EXPECT_GT(json.at("iterations").get<int>(), 0);
+  EXPECT_GT(json.at("cells").get<int>(), 0);
+  EXPECT_LT(json.at("rms_height_error").get<double>(), 0.2);
   for (const char* stage : {"grid", "gradients", "selection", "solve", "total"})
-    EXPECT_GT(jsonNumber(json, stage), 0.0) << stage;
-  const auto cov = jsonCovariance(json);
+    EXPECT_GT(json.at("time_ms").at(stage).get<double>(), 0.0) << stage;
+  const auto cov = covarianceOf(json);
   EXPECT_GT(cov[0], 0.0);       // x
   EXPECT_LT(cov[0], 1e-2);      // x observed
   EXPECT_GT(cov[2 * 7], 1e3);   // z not estimated in 3-DoF
@@ -184,10 +180,10 @@ TEST_F(DloRegister, InitIsInMetresAndDegrees) {
   // In 3-DoF, z, pitch and roll stay at the guess: the output shows how --init was read.
   const auto [ref, cur] =
       writePair(poseFromXYZYPR(1.0, -0.5, 0.05, 5 * kDeg, 0.5 * kDeg, -0.5 * kDeg));
-  const std::string json = expectJson({ref, cur, "--init", "0.9 -0.4 0.05 4 0.5 -0.5"});
+  const nlohmann::json json = expectJson({ref, cur, "--init", "0.9 -0.4 0.05 4 0.5 -0.5"});
   expectPose(json, 1.0, -0.5, 0.05, 5.0, 0.5, -0.5);
-  EXPECT_NEAR(jsonNumber(json, "pitch_deg"), 0.5, 1e-6);
-  EXPECT_NEAR(jsonNumber(json, "roll_deg"), -0.5, 1e-6);
+  EXPECT_NEAR(poseValue(json, "pitch_deg"), 0.5, 1e-6);
+  EXPECT_NEAR(poseValue(json, "roll_deg"), -0.5, 1e-6);
 }
 
 TEST_F(DloRegister, ConfigFileAndSetOverridesAreApplied) {
@@ -195,15 +191,16 @@ TEST_F(DloRegister, ConfigFileAndSetOverridesAreApplied) {
   const std::string config = wd_.path("dlo.ini");
   std::ofstream(config) << "[grid]\nlevels = 2\n[solver]\nmax_iterations = 1\n";
   // One iteration per level: at most 2 in all.
-  EXPECT_LE(jsonNumber(expectJson({ref, cur, "--config", config}), "iterations"), 2);
+  EXPECT_LE(expectJson({ref, cur, "--config", config}).at("iterations").get<int>(), 2);
   // --set wins over the file.
-  EXPECT_LE(jsonNumber(expectJson({ref, cur, "--config", config, "--set", "grid.levels=1"}),
-                       "iterations"),
+  EXPECT_LE(expectJson({ref, cur, "--config", config, "--set", "grid.levels=1"})
+                .at("iterations")
+                .get<int>(),
             1);
   // --dof wins over the file's solver.dof.
   std::ofstream(config) << "[solver]\ndof = 6\n";
-  const std::string json = expectJson({ref, cur, "--config", config, "--dof", "3"});
-  EXPECT_EQ(jsonNumber(json, "pitch_deg"), 0.0) << json;  // untouched in 3-DoF
+  const nlohmann::json json = expectJson({ref, cur, "--config", config, "--dof", "3"});
+  EXPECT_EQ(poseValue(json, "pitch_deg"), 0.0) << json;  // untouched in 3-DoF
 }
 
 TEST_F(DloRegister, ReadsPlyInput) {

@@ -2,6 +2,7 @@
 // exit statuses out.
 #include <gtest/gtest.h>
 
+#include "../json_file.h"
 #include "../test_process.h"
 
 #include <sys/wait.h>
@@ -13,6 +14,7 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -77,21 +79,19 @@ std::string readFile(const fs::path& path) {
   return test::readFile(path.string());
 }
 
-/// A value of metrics.json: the keys are searched in order, each after the previous one, so
-/// {"\"label\": \"biased\"", "\"ate\"", "\"rmse\""} finds the ATE RMSE of estimate "biased".
-double jsonValue(const std::string& json, const std::vector<std::string>& keys) {
-  size_t at = 0;
-  for (const std::string& key : keys) {
-    at = json.find(key, at);
-    if (at == std::string::npos) {
-      ADD_FAILURE() << "metrics.json has no " << key;
-      return NAN;
-    }
-    at += key.size();
+/// The entry of metrics.json's "estimates" labelled `label`.
+nlohmann::json estimateOf(const nlohmann::json& metrics, const std::string& label) {
+  for (const nlohmann::json& e : metrics.at("estimates")) {
+    if (e.at("label") == label) return e;
   }
-  // The first number after the key's colon, also when it opens an array.
-  at = json.find_first_of("-0123456789", json.find(':', at));
-  return std::strtod(json.c_str() + at, nullptr);
+  throw std::runtime_error("metrics.json has no estimate labelled " + label);
+}
+
+/// A number of metrics.json by its path of keys, e.g. {"ate", "rmse"}.
+double number(const nlohmann::json& json, const std::vector<std::string>& keys) {
+  const nlohmann::json* at = &json;
+  for (const std::string& key : keys) at = &at->at(key);
+  return at->get<double>();
 }
 
 class DloEval : public ::testing::Test {
@@ -128,37 +128,39 @@ TEST_F(DloEval, ReportsTheKnownErrorsOfAScaledAndANoisyEstimate) {
       dloEval("--gt " + path("gt.tum") + " --est " + path("biased.tum") + " --est " +
               path("noisy.tum") + " --label biased --label noisy --out " + path("out"));
   ASSERT_EQ(r.status, 0) << r.err;
-  const std::string json = readFile(path("out/metrics.json"));
-  const std::string biased = "\"label\": \"biased\"", noisy = "\"label\": \"noisy\"";
+  const nlohmann::json json = test::readJsonFile(path("out/metrics.json"));
+  EXPECT_EQ(json.at("settings").at("alignment_requested"), "umeyama-se3");
+  const nlohmann::json biased = estimateOf(json, "biased");
+  const nlohmann::json noisy = estimateOf(json, "noisy");
 
-  EXPECT_EQ(jsonValue(json, {biased, "\"matched_poses\""}), kPoses);
-  EXPECT_NE(json.find("\"alignment\": \"umeyama-se3\""), std::string::npos);
+  EXPECT_EQ(biased.at("matched_poses"), kPoses);
+  EXPECT_EQ(biased.at("alignment"), "umeyama-se3");
   // SE(3) alignment removes the offset and centres the scaled circle on the true one: every
   // position is then off by the scale error times the radius.
-  for (const char* stat : {"\"rmse\"", "\"mean\"", "\"median\"", "\"max\""}) {
-    EXPECT_NEAR(jsonValue(json, {biased, "\"ate\"", stat}), kScaleError * kRadius, 1e-6) << stat;
+  for (const char* stat : {"rmse", "mean", "median", "max"}) {
+    EXPECT_NEAR(number(biased, {"ate", stat}), kScaleError * kRadius, 1e-6) << stat;
   }
   // Frame-to-frame motion is stretched by the scale error, rotations are exact.
   const double chord1 = 2.0 * kRadius * std::sin(M_PI / kPoses);
   const double chord10 = 2.0 * kRadius * std::sin(10.0 * M_PI / kPoses);
-  EXPECT_NEAR(jsonValue(json, {biased, "\"1_frame\"", "\"translation_m\"", "\"max\""}),
-              kScaleError * chord1, 1e-7);
-  EXPECT_NEAR(jsonValue(json, {biased, "\"10_frames\"", "\"translation_m\"", "\"rmse\""}),
-              kScaleError * chord10, 1e-7);
-  EXPECT_NEAR(jsonValue(json, {biased, "\"1_frame\"", "\"rotation_deg\"", "\"max\""}), 0.0, 1e-4);
+  EXPECT_NEAR(number(biased, {"rpe", "1_frame", "translation_m", "max"}), kScaleError * chord1,
+              1e-7);
+  EXPECT_NEAR(number(biased, {"rpe", "10_frames", "translation_m", "rmse"}), kScaleError * chord10,
+              1e-7);
+  EXPECT_NEAR(number(biased, {"rpe", "1_frame", "rotation_deg", "max"}), 0.0, 1e-4);
   // KITTI: a 126 m path evaluates the 100 m length only; a pure scale error drifts by at most
   // the scale error (less: a 100 m arc has a shorter chord).
-  EXPECT_NEAR(jsonValue(json, {biased, "\"lengths\""}), 100.0, 1e-9);
-  const double drift = jsonValue(json, {biased, "\"kitti\"", "\"translation_percent\""});
+  EXPECT_EQ(biased.at("kitti").at("lengths"), nlohmann::json::array({100.0}));
+  const double drift = number(biased, {"kitti", "translation_percent"});
   EXPECT_GT(drift, 0.1 * kScaleError * 100.0);
   EXPECT_LE(drift, kScaleError * 100.0 + 1e-9);
-  EXPECT_NEAR(jsonValue(json, {biased, "\"rotation_deg_per_100m\""}), 0.0, 1e-4);
+  EXPECT_NEAR(number(biased, {"kitti", "rotation_deg_per_100m"}), 0.0, 1e-4);
 
   // The noisy estimate lacks every 7th pose and is stamped 4 ms late: matched within 20 ms.
-  EXPECT_EQ(jsonValue(json, {noisy, "\"poses\""}), kPoses - 58);
-  EXPECT_EQ(jsonValue(json, {noisy, "\"matched_poses\""}), kPoses - 58);
+  EXPECT_EQ(noisy.at("poses"), kPoses - 58);
+  EXPECT_EQ(noisy.at("matched_poses"), kPoses - 58);
   // 5 cm per axis: about 8.7 cm in 3D.
-  EXPECT_NEAR(jsonValue(json, {noisy, "\"ate\"", "\"rmse\""}), 0.05 * std::sqrt(3.0), 0.015);
+  EXPECT_NEAR(number(noisy, {"ate", "rmse"}), 0.05 * std::sqrt(3.0), 0.015);
 
   EXPECT_NE(r.out.find("biased"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("KITTI lengths for noisy: 100 m"), std::string::npos) << r.out;
@@ -171,14 +173,15 @@ TEST_F(DloEval, FirstPoseAlignmentLeavesAnOffsetThatStartsAfterTheFirstPose) {
   const CliRun r = dloEval("--gt " + path("gt.tum") + " --est " + path("jump.tum") +
                            " --alignment first --out " + path("out"));
   ASSERT_EQ(r.status, 0) << r.err;
-  const std::string json = readFile(path("out/metrics.json"));
-  EXPECT_NE(json.find("\"alignment\": \"first-pose\""), std::string::npos);
-  EXPECT_NEAR(jsonValue(json, {"\"ate\"", "\"median\""}), kOffset.norm(), 1e-6);
-  EXPECT_NEAR(jsonValue(json, {"\"ate\"", "\"max\""}), kOffset.norm(), 1e-6);
-  EXPECT_NEAR(jsonValue(json, {"\"ate\"", "\"mean\""}), kOffset.norm() * (kPoses - 1) / kPoses,
-              1e-6);
+  const nlohmann::json estimates = test::readJsonFile(path("out/metrics.json")).at("estimates");
+  ASSERT_EQ(estimates.size(), 1u);
+  const nlohmann::json& jump_estimate = estimates[0];
+  EXPECT_EQ(jump_estimate.at("alignment"), "first-pose");
+  EXPECT_NEAR(number(jump_estimate, {"ate", "median"}), kOffset.norm(), 1e-6);
+  EXPECT_NEAR(number(jump_estimate, {"ate", "max"}), kOffset.norm(), 1e-6);
+  EXPECT_NEAR(number(jump_estimate, {"ate", "mean"}), kOffset.norm() * (kPoses - 1) / kPoses, 1e-6);
   // The default label is the file name without extension.
-  EXPECT_NE(json.find("\"label\": \"jump\""), std::string::npos);
+  EXPECT_EQ(jump_estimate.at("label"), "jump");
 }
 
 TEST_F(DloEval, KittiFilesArePairedByIndex) {
@@ -190,11 +193,12 @@ TEST_F(DloEval, KittiFilesArePairedByIndex) {
   const CliRun r =
       dloEval("--gt " + path("gt.kitti") + " --est " + path("est.kitti") + " --out " + path("out"));
   ASSERT_EQ(r.status, 0) << r.err;
-  const std::string json = readFile(path("out/metrics.json"));
-  EXPECT_EQ(jsonValue(json, {"\"matched_poses\""}), kPoses / 2);
-  EXPECT_NE(json.find("\"matching\": \"index\""), std::string::npos);
+  const nlohmann::json estimate =
+      test::readJsonFile(path("out/metrics.json")).at("estimates").at(0);
+  EXPECT_EQ(estimate.at("matched_poses"), kPoses / 2);
+  EXPECT_EQ(estimate.at("matching"), "index");
   // Half a lap is 63 m: the KITTI lengths fall back to fractions of it.
-  EXPECT_NE(json.find("\"short_sequence\": true"), std::string::npos);
+  EXPECT_EQ(estimate.at("kitti").at("short_sequence"), true);
 }
 
 TEST_F(DloEval, FiguresHaveTheExpectedSizeContentAndLegendColours) {
@@ -268,7 +272,8 @@ TEST_F(DloEval, AStampedEstimateAgainstAKittiGroundTruthNeedsGtTimes) {
   metrics::writeTimestamps(path("times.txt"), gt_.times);
   const CliRun with = dloEval(args + " --gt-times " + path("times.txt"));
   ASSERT_EQ(with.status, 0) << with.err;
-  EXPECT_EQ(jsonValue(readFile(path("out/metrics.json")), {"\"matched_poses\""}), kPoses);
+  EXPECT_EQ(test::readJsonFile(path("out/metrics.json")).at("estimates").at(0).at("matched_poses"),
+            kPoses);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "../json_file.h"
 #include "dlo/files/error.h"
 #include "dlo/mrpt/kitti_scan_source.h"
 #include "dlo/slam/slam_config.h"
@@ -129,14 +130,10 @@ TEST(DloSlamCommandLine, ReadsAKittiFolderDirectly) {
   while (std::getline(tum, line)) poses += (!line.empty() && line[0] != '#') ? 1 : 0;
   EXPECT_EQ(poses, 22u);  // one per scan of the folder
   // The real HDL-64 sweeps: dense, by their point count (their rings blur, see RingCount).
-  std::ifstream report(out / "report.json");
-  const std::string text((std::istreambuf_iterator<char>(report)),
-                         std::istreambuf_iterator<char>());
-  EXPECT_NE(
-      text.find("\"sensor_profile\": {\"name\": \"dense\", \"chosen_because\": \"the first scan "
-                "has"),
-      std::string::npos)
-      << text;
+  const nlohmann::json profile = test::readJsonFile(out / "report.json").at("sensor_profile");
+  EXPECT_EQ(profile.at("name"), "dense");
+  EXPECT_EQ(profile.at("chosen_because").get<std::string>().rfind("the first scan has", 0), 0u)
+      << profile;
   fs::remove_all(out);
 }
 
@@ -154,11 +151,7 @@ RealDriveRun runRealDrive(const std::string& extra) {
       dloSlam("--input " + kKittiCity + " --out " + out.string() + " --quiet " + extra);
   EXPECT_EQ(r.status, 0) << r.err;
   RealDriveRun run;
-  std::ifstream report(out / "report.json");
-  const std::string text((std::istreambuf_iterator<char>(report)),
-                         std::istreambuf_iterator<char>());
-  const size_t at = text.find("\"keyframes\": ");
-  if (at != std::string::npos) run.keyframes = std::stoi(text.substr(at + 13));
+  run.keyframes = test::readJsonFile(out / "report.json").at("keyframes").get<int>();
   std::ifstream tum(out / "trajectory.tum");
   std::string line, last;
   while (std::getline(tum, line)) {

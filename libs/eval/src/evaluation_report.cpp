@@ -1,48 +1,44 @@
 #include "dlo/eval/evaluation_report.h"
 
-#include "dlo/core/json_text.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 namespace dlo::eval {
 
 namespace {
 
-std::string jsonNumber(double v) {
-  return dlo::jsonNumber(v, 9);
-}
+/// metrics.json keeps the keys in the order written, the order users and scripts know.
+using Json = nlohmann::ordered_json;
 
-std::string statistics(const metrics::ErrorStatistics& s) {
-  return "{\"rmse\": " + jsonNumber(s.rmse) + ", \"mean\": " + jsonNumber(s.mean) +
-         ", \"median\": " + jsonNumber(s.median) + ", \"max\": " + jsonNumber(s.max) + "}";
+Json statistics(const metrics::ErrorStatistics& s) {
+  return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"max", s.max}};
 }
 
 std::string rpeKey(size_t delta) {
   return std::to_string(delta) + (delta == 1 ? "_frame" : "_frames");
 }
 
-void writeKitti(std::ostringstream& o, const metrics::KittiDriftResult& k,
-                const metrics::KittiDriftParams& params) {
-  o << "    \"kitti\": {\"translation_percent\": " << jsonNumber(k.translation_percent)
-    << ", \"rotation_deg_per_100m\": " << jsonNumber(k.rotation_deg_per_100m)
-    << ", \"segments\": " << k.segments << ", \"step_frames\": " << params.step
-    << ", \"short_sequence\": " << (k.short_sequence ? "true" : "false") << ",\n";
-  o << "      \"lengths\": [";
-  for (size_t i = 0; i < k.per_length.size(); ++i) {
-    o << (i ? ", " : "") << jsonNumber(k.per_length[i].length);
+Json kittiJson(const metrics::KittiDriftResult& k, const metrics::KittiDriftParams& params) {
+  Json lengths = Json::array();
+  Json per_length = Json::array();
+  for (const metrics::KittiLengthError& l : k.per_length) {
+    lengths.push_back(l.length);
+    per_length.push_back({{"length", l.length},
+                          {"segments", l.segments},
+                          {"translation_percent", l.translation_percent},
+                          {"rotation_deg_per_100m", l.rotation_deg_per_100m}});
   }
-  o << "],\n      \"per_length\": [";
-  for (size_t i = 0; i < k.per_length.size(); ++i) {
-    const metrics::KittiLengthError& l = k.per_length[i];
-    o << (i ? ",\n        " : "\n        ") << "{\"length\": " << jsonNumber(l.length)
-      << ", \"segments\": " << l.segments
-      << ", \"translation_percent\": " << jsonNumber(l.translation_percent)
-      << ", \"rotation_deg_per_100m\": " << jsonNumber(l.rotation_deg_per_100m) << "}";
-  }
-  o << "]}\n";
+  return {{"translation_percent", k.translation_percent},
+          {"rotation_deg_per_100m", k.rotation_deg_per_100m},
+          {"segments", k.segments},
+          {"step_frames", params.step},
+          {"short_sequence", k.short_sequence},
+          {"lengths", std::move(lengths)},
+          {"per_length", std::move(per_length)}};
 }
 
 std::string fixed(double v, int decimals) {
@@ -62,41 +58,35 @@ std::string cell(const std::string& text, size_t width, bool left = false) {
 
 std::string metricsJson(const ComparisonSettings& settings,
                         const std::vector<LabelledEvaluation>& estimates) {
-  std::ostringstream o;
-  o << "{\n  \"ground_truth\": {\"file\": " << jsonString(settings.ground_truth_file)
-    << ", \"poses\": " << settings.ground_truth_poses << "},\n";
-  o << "  \"settings\": {\"alignment_requested\": "
-    << jsonString(metrics::alignmentName(settings.options.alignment))
-    << ", \"max_dt\": " << jsonNumber(settings.max_dt) << ", \"rpe_deltas\": [";
-  for (size_t i = 0; i < settings.options.rpe_deltas.size(); ++i) {
-    o << (i ? ", " : "") << settings.options.rpe_deltas[i];
-  }
-  o << "]},\n  \"estimates\": [";
-  for (size_t e = 0; e < estimates.size(); ++e) {
-    const LabelledEvaluation& le = estimates[e];
+  Json out;
+  out["ground_truth"] = {{"file", settings.ground_truth_file},
+                         {"poses", settings.ground_truth_poses}};
+  out["settings"] = {{"alignment_requested", metrics::alignmentName(settings.options.alignment)},
+                     {"max_dt", settings.max_dt},
+                     {"rpe_deltas", settings.options.rpe_deltas}};
+  Json list = Json::array();
+  for (const LabelledEvaluation& le : estimates) {
     const EstimateEvaluation& ev = le.evaluation;
-    o << (e ? ",\n" : "\n") << "   {\n";
-    o << "    \"label\": " << jsonString(le.label) << ",\n";
-    o << "    \"file\": " << jsonString(le.file) << ",\n";
-    o << "    \"poses\": " << le.poses << ",\n";
-    o << "    \"matched_poses\": " << ev.matched_poses << ",\n";
-    o << "    \"matching\": " << jsonString(ev.matching) << ",\n";
-    o << "    \"alignment\": " << jsonString(metrics::alignmentName(ev.ate.alignment)) << ",\n";
-    o << "    \"ate\": " << statistics(ev.ate.error) << ",\n";
-    o << "    \"rpe\": {";
-    for (size_t i = 0; i < ev.rpe.size(); ++i) {
-      const metrics::RpeResult& r = ev.rpe[i];
-      o << (i ? ",\n" : "\n") << "      " << jsonString(rpeKey(r.delta))
-        << ": {\"frames\": " << r.delta << ", \"pairs\": " << r.translation.count
-        << ",\n        \"translation_m\": " << statistics(r.translation)
-        << ",\n        \"rotation_deg\": " << statistics(r.rotation) << "}";
+    Json rpe = Json::object();
+    for (const metrics::RpeResult& r : ev.rpe) {
+      rpe[rpeKey(r.delta)] = {{"frames", r.delta},
+                              {"pairs", r.translation.count},
+                              {"translation_m", statistics(r.translation)},
+                              {"rotation_deg", statistics(r.rotation)}};
     }
-    o << "},\n";
-    writeKitti(o, ev.kitti, settings.options.kitti);
-    o << "   }";
+    list.push_back({{"label", le.label},
+                    {"file", le.file},
+                    {"poses", le.poses},
+                    {"matched_poses", ev.matched_poses},
+                    {"matching", ev.matching},
+                    {"alignment", metrics::alignmentName(ev.ate.alignment)},
+                    {"ate", statistics(ev.ate.error)},
+                    {"rpe", std::move(rpe)},
+                    {"kitti", kittiJson(ev.kitti, settings.options.kitti)}});
   }
-  o << "\n  ]\n}\n";
-  return o.str();
+  out["estimates"] = std::move(list);
+  // File names are the user's bytes: invalid UTF-8 is replaced rather than thrown on.
+  return out.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 std::string metricsTable(const ComparisonSettings& settings,

@@ -2,42 +2,41 @@
 
 #include <cmath>
 
-#include <sstream>
-#include "dlo/core/json_text.h"
+#include <nlohmann/json.hpp>
 
 namespace dlo {
 
-namespace {
-
-/// A degenerate solve can produce NaN or infinity in the covariance: written as null.
-std::string number(double v) {
-  return jsonNumber(v, 17);
-}
-
-}  // namespace
-
 std::string registrationReportJson(const mrpt::poses::CPose3DPDFGaussian& pdf,
                                    const mrpt::slam::CDirectHeightAligner::TReturnInfo& info) {
+  // The keys stay in the order written, the order scripts know.
+  using Json = nlohmann::ordered_json;
   constexpr double kDeg = 180.0 / M_PI;
   const mrpt::poses::CPose3D& p = pdf.mean;
-  std::ostringstream out;
-  out << "{\"pose\": {\"x\": " << number(p.x()) << ", \"y\": " << number(p.y())
-      << ", \"z\": " << number(p.z()) << ", \"yaw_deg\": " << number(p.yaw() * kDeg)
-      << ", \"pitch_deg\": " << number(p.pitch() * kDeg)
-      << ", \"roll_deg\": " << number(p.roll() * kDeg) << "}, \"covariance\": [";
+  // A degenerate solve can produce NaN or infinity in the covariance: nlohmann writes null.
+  Json covariance = Json::array();
   for (int r = 0; r < 6; ++r)
-    for (int c = 0; c < 6; ++c) out << (r + c > 0 ? ", " : "") << number(pdf.cov(r, c));
-  out << "], \"iterations\": " << info.iterations << ", \"cells\": " << info.cells
-      << ", \"rms_height_error\": " << number(info.rms_height_error)
-      << ", \"degenerate\": " << (info.degenerate ? "true" : "false")
-      << ", \"converged\": " << (info.converged ? "true" : "false")
-      << ", \"information_ratio\": " << number(info.information_ratio)
-      << ", \"time_ms\": {\"grid\": " << number(info.grid_ms)
-      << ", \"gradients\": " << number(info.gradients_ms)
-      << ", \"selection\": " << number(info.selection_ms)
-      << ", \"solve\": " << number(info.solve_ms)
-      << ", \"total\": " << number(info.executionTime * 1e3) << "}}";
-  return out.str();
+    for (int c = 0; c < 6; ++c) covariance.push_back(pdf.cov(r, c));
+  const Json report = {{"pose",
+                        {{"x", p.x()},
+                         {"y", p.y()},
+                         {"z", p.z()},
+                         {"yaw_deg", p.yaw() * kDeg},
+                         {"pitch_deg", p.pitch() * kDeg},
+                         {"roll_deg", p.roll() * kDeg}}},
+                       {"covariance", std::move(covariance)},
+                       {"iterations", info.iterations},
+                       {"cells", info.cells},
+                       {"rms_height_error", info.rms_height_error},
+                       {"degenerate", info.degenerate},
+                       {"converged", info.converged},
+                       {"information_ratio", info.information_ratio},
+                       {"time_ms",
+                        {{"grid", info.grid_ms},
+                         {"gradients", info.gradients_ms},
+                         {"selection", info.selection_ms},
+                         {"solve", info.solve_ms},
+                         {"total", info.executionTime * 1e3}}}};
+  return report.dump();
 }
 
 }  // namespace dlo

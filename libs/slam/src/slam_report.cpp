@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 
-#include "dlo/core/json_text.h"
+#include <nlohmann/json.hpp>
+
 #include "dlo/metrics/absolute_trajectory_error.h"
 #include "dlo/metrics/kitti_drift.h"
 #include "dlo/metrics/timestamp_matching.h"
@@ -22,17 +24,18 @@ double percentile(std::vector<double> v, double q) {
   return v[std::min(i, v.size() - 1)];
 }
 
-std::string number(double x) {
-  return jsonNumber(x, 6);
+/// report.json keeps the keys in the order written, the order users and scripts know.
+using Json = nlohmann::ordered_json;
+
+Json stats(const std::vector<double>& v) {
+  return {{"median", percentile(v, 0.5)}, {"p95", percentile(v, 0.95)}};
 }
 
-std::string quoted(const std::string& text) {
-  return jsonString(text);
-}
-
-std::string stats(const std::vector<double>& v) {
-  return "{\"median\": " + number(percentile(v, 0.5)) +
-         ", \"p95\": " + number(percentile(v, 0.95)) + "}";
+/// A segment length for the text of drift_segment_lengths: "100", "12.5".
+std::string lengthText(double metres) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", metres);
+  return text;
 }
 
 metrics::Trajectory trajectoryOf(const SlamMap& map, bool optimised) {
@@ -91,7 +94,7 @@ SlamAccuracy evaluateAgainst(const SlamMap& map, const metrics::Trajectory& grou
   a.drift_deg_per_100m_before = d_before.rotation_deg_per_100m;
   std::ostringstream lengths;
   for (size_t i = 0; i < d_after.per_length.size(); ++i) {
-    lengths << (i ? ", " : "") << number(d_after.per_length[i].length) << " m";
+    lengths << (i ? ", " : "") << lengthText(d_after.per_length[i].length) << " m";
   }
   a.drift_lengths = lengths.str();
   return a;
@@ -104,45 +107,47 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
   const PipelineTimings& t = pipeline.timings();
   const PipelineCounters& c = pipeline.counters();
   const SlamMap& map = pipeline.map();
-  std::ostringstream o;
-  o << "{\n  \"input\": " << quoted(input) << ",\n";
-  o << "  \"frames\": " << c.frames << ",\n  \"keyframes\": " << map.keyframes.size() << ",\n";
-  o << "  \"ms_per_frame\": " << stats(t.total) << ",\n";
-  o << "  \"stages_ms\": {\"deskew\": " << stats(t.deskew) << ", \"grid\": " << stats(t.grid)
-    << ", \"gradients\": " << stats(t.gradients) << ", \"selection\": " << stats(t.selection)
-    << ", \"solve\": " << stats(t.solve) << ", \"keyframe\": " << stats(t.keyframe)
-    << ", \"local_map\": " << stats(t.local_map) << ", \"ground\": " << stats(t.ground)
-    << ", \"loop_closure\": " << stats(t.loop) << "},\n";
-  o << "  \"loop_closures\": {\"accepted\": " << c.loops_accepted
-    << ", \"rejected\": " << c.loops_rejected << ", \"optimisations\": " << c.optimisations
-    << ", \"already_consistent\": " << c.loops_consistent << ", \"tracked\": " << c.loops_tracked
-    << ", \"tracked_then_searched\": " << c.loops_untracked << "},\n";
+  Json report;
+  report["input"] = input;
+  report["frames"] = c.frames;
+  report["keyframes"] = map.keyframes.size();
+  report["ms_per_frame"] = stats(t.total);
+  report["stages_ms"] = {{"deskew", stats(t.deskew)},       {"grid", stats(t.grid)},
+                         {"gradients", stats(t.gradients)}, {"selection", stats(t.selection)},
+                         {"solve", stats(t.solve)},         {"keyframe", stats(t.keyframe)},
+                         {"local_map", stats(t.local_map)}, {"ground", stats(t.ground)},
+                         {"loop_closure", stats(t.loop)}};
+  report["loop_closures"] = {
+      {"accepted", c.loops_accepted},     {"rejected", c.loops_rejected},
+      {"optimisations", c.optimisations}, {"already_consistent", c.loops_consistent},
+      {"tracked", c.loops_tracked},       {"tracked_then_searched", c.loops_untracked}};
   // The verdict on every candidate (capped), so that a user can see why a loop did not close.
   constexpr size_t kMaxCandidates = 500;
-  o << "  \"loop_candidates\": [";
+  Json candidates = Json::array();
   for (size_t i = 0; i < map.loop_candidates.size() && i < kMaxCandidates; ++i) {
     const LoopCandidate& l = map.loop_candidates[i];
-    o << (i ? ",\n    " : "\n    ") << "{\"from\": " << l.from << ", \"to\": " << l.to
-      << ", \"accepted\": " << (l.accepted ? "true" : "false")
-      << ", \"tracked\": " << (l.tracked ? "true" : "false") << ", \"reason\": " << quoted(l.reason)
-      << "}";
+    candidates.push_back({{"from", l.from},
+                          {"to", l.to},
+                          {"accepted", l.accepted},
+                          {"tracked", l.tracked},
+                          {"reason", l.reason}});
   }
-  o << "],\n";
-  o << "  \"degenerate_frames\": " << c.degenerate_frames << ",\n";
-  o << "  \"prediction_disagreements\": {\"decided_by_other_starts\": " << c.multi_start_frames
-    << ", \"other_start_won\": " << c.alternative_frames
-    << ", \"prediction_kept\": " << c.prediction_kept_frames << "},\n";
+  report["loop_candidates"] = std::move(candidates);
+  report["degenerate_frames"] = c.degenerate_frames;
+  report["prediction_disagreements"] = {{"decided_by_other_starts", c.multi_start_frames},
+                                        {"other_start_won", c.alternative_frames},
+                                        {"prediction_kept", c.prediction_kept_frames}};
   // Degenerate registrations along whose unobserved direction the prediction was uncertain
   // (an unmeasured velocity): searched along it, and those where a start found the pose.
-  o << "  \"unobserved_searches\": {\"frames\": " << c.searched_frames
-    << ", \"found\": " << c.search_found_frames << "},\n";
+  report["unobserved_searches"] = {{"frames", c.searched_frames}, {"found", c.search_found_frames}};
   // How each scan was deskewed: with the input's per-point times, with times estimated from
   // the azimuths (spin start and direction read off the point order, or from the
   // odometry.sweep_* keys), or not at all (deskewing off).
-  o << "  \"deskew\": {\"measured_times\": " << c.times_measured
-    << ", \"estimated_times_from_point_order\": " << c.times_from_order
-    << ", \"estimated_times_from_config\": " << c.times_from_params << ", \"not_deskewed\": "
-    << c.frames - c.times_measured - c.times_from_order - c.times_from_params << "},\n";
+  report["deskew"] = {
+      {"measured_times", c.times_measured},
+      {"estimated_times_from_point_order", c.times_from_order},
+      {"estimated_times_from_config", c.times_from_params},
+      {"not_deskewed", c.frames - c.times_measured - c.times_from_order - c.times_from_params}};
   // What the odometry estimates: "3d-levelled" (x, y, yaw registered, z, roll and pitch from
   // the ground, odometry.levelling), "3-dof" (the paper's planar odometry) or "6-dof" (the
   // joint solve, solver.dof = 6); and how many scans found a ground to level on.
@@ -150,44 +155,46 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
   const char* dof = p.registration.solver.dof == 6 ? "6-dof"
                     : p.odometry.levelling == 1    ? "3d-levelled"
                                                    : "3-dof";
-  o << "  \"estimation\": {\"dof\": \"" << dof << "\", \"levelled_frames\": " << c.levelled_frames
-    << "},\n";
-  o << "  \"sensor_profile\": {\"name\": " << quoted(profile.name)
-    << ", \"chosen_because\": " << quoted(profile.reason) << "},\n";
-  o << "  \"empty_frames\": " << c.empty_frames << ",\n";
+  report["estimation"] = {{"dof", dof}, {"levelled_frames", c.levelled_frames}};
+  report["sensor_profile"] = {{"name", profile.name}, {"chosen_because", profile.reason}};
+  report["empty_frames"] = c.empty_frames;
   // Peak of the whole run so far (processing and export); the samples show how resident memory
   // evolved with the scans and how much of it the keyframes hold.
-  o << "  \"peak_memory_mb\": " << number(peakResidentMemoryMb()) << ",\n";
+  report["peak_memory_mb"] = peakResidentMemoryMb();
   const std::vector<MemorySample>& mem = pipeline.memorySamples();
-  o << "  \"memory\": {\"unexplained_growth_kb_per_frame\": "
-    << number(unexplainedGrowthKbPerFrame(mem)) << ", \"samples\": [";
-  for (size_t i = 0; i < mem.size(); ++i) {
-    o << (i ? ",\n    " : "\n    ") << "{\"frame\": " << mem[i].frame
-      << ", \"resident_mb\": " << number(mem[i].resident_mb)
-      << ", \"keyframes\": " << mem[i].keyframes
-      << ", \"keyframe_mb\": " << number(mem[i].keyframe_mb)
-      << ", \"spilled_mb\": " << number(mem[i].spilled_mb) << "}";
+  Json samples = Json::array();
+  for (const MemorySample& m : mem) {
+    samples.push_back({{"frame", m.frame},
+                       {"resident_mb", m.resident_mb},
+                       {"keyframes", m.keyframes},
+                       {"keyframe_mb", m.keyframe_mb},
+                       {"spilled_mb", m.spilled_mb}});
   }
-  o << "]},\n";
-  o << "  \"interrupted\": " << (interrupted ? "true" : "false") << ",\n";
-  o << "  \"input_error\": " << (input_error.empty() ? "null" : quoted(input_error)) << ",\n";
+  report["memory"] = {{"unexplained_growth_kb_per_frame", unexplainedGrowthKbPerFrame(mem)},
+                      {"samples", std::move(samples)}};
+  report["interrupted"] = interrupted;
+  report["input_error"] = input_error.empty() ? Json(nullptr) : Json(input_error);
   if (accuracy) {
     const SlamAccuracy& a = *accuracy;
-    o << "  \"accuracy\": {\"alignment\": \"umeyama-se3\", \"matched_poses\": " << a.matched
-      << ",\n    \"before_loop_closure\": {\"ate_rmse_m\": " << number(a.ate_rmse_before)
-      << ", \"ate_max_m\": " << number(a.ate_max_before)
-      << ", \"final_error_m\": " << number(a.final_error_before)
-      << ", \"drift_percent\": " << number(a.drift_percent_before)
-      << ", \"drift_deg_per_100m\": " << number(a.drift_deg_per_100m_before) << "},\n"
-      << "    \"after_loop_closure\": {\"ate_rmse_m\": " << number(a.ate_rmse_after)
-      << ", \"ate_max_m\": " << number(a.ate_max_after)
-      << ", \"final_error_m\": " << number(a.final_error_after)
-      << ", \"drift_percent\": " << number(a.drift_percent_after)
-      << ", \"drift_deg_per_100m\": " << number(a.drift_deg_per_100m_after) << "},\n"
-      << "    \"drift_segment_lengths\": " << quoted(a.drift_lengths) << "},\n";
+    report["accuracy"] = {{"alignment", "umeyama-se3"},
+                          {"matched_poses", a.matched},
+                          {"before_loop_closure",
+                           {{"ate_rmse_m", a.ate_rmse_before},
+                            {"ate_max_m", a.ate_max_before},
+                            {"final_error_m", a.final_error_before},
+                            {"drift_percent", a.drift_percent_before},
+                            {"drift_deg_per_100m", a.drift_deg_per_100m_before}}},
+                          {"after_loop_closure",
+                           {{"ate_rmse_m", a.ate_rmse_after},
+                            {"ate_max_m", a.ate_max_after},
+                            {"final_error_m", a.final_error_after},
+                            {"drift_percent", a.drift_percent_after},
+                            {"drift_deg_per_100m", a.drift_deg_per_100m_after}}},
+                          {"drift_segment_lengths", a.drift_lengths}};
   }
-  o << "  \"config\": " << quoted(config_ini) << "\n}\n";
-  return o.str();
+  report["config"] = config_ini;
+  // Paths and INI text are the user's bytes: invalid UTF-8 is replaced rather than thrown on.
+  return report.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace dlo
