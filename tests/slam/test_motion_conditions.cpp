@@ -122,7 +122,7 @@ TEST(MotionConditions, SweepsWithoutTimesAreDeskewedFromTheirAzimuths) {
   EXPECT_EQ(estimated.counters.times_measured, 0u);
   EXPECT_EQ(estimated.counters.times_from_order, static_cast<size_t>(kFrames));
 
-  p.odometry.estimate_times = 0;
+  p.odometry.estimate_times = false;
   const OdometryRun raw = runOdometry(*untimed, p);
   EXPECT_EQ(raw.counters.times_from_order + raw.counters.times_from_params, 0u);
 

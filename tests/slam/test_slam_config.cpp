@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "../json_file.h"
 #include "dlo/files/error.h"
+#include "dlo/mrpt/dlo_config.h"
 #include "dlo/mrpt/kitti_scan_source.h"
 #include "dlo/slam/slam_config.h"
 
@@ -25,22 +27,88 @@ TEST(SlamConfig, TheShippedConfigFileHoldsExactlyTheDefaults) {
   EXPECT_EQ(slamParamsToIni(loaded), slamParamsToIni(SlamParams()));
 }
 
+/// The file `relative` of the source tree must hold exactly `expected`, the text generated
+/// from the parameter tables. With DLO_UPDATE_GENERATED=1 in the environment the file is
+/// rewritten instead (after a change of a table: then review the diff and commit it).
+void expectGenerated(const std::string& relative, const std::string& expected) {
+  const fs::path path = fs::path(DLO_SOURCE_DIR) / relative;
+  if (const char* update = std::getenv("DLO_UPDATE_GENERATED");
+      update && std::string(update) == "1") {
+    std::ofstream(path) << expected;
+  }
+  std::ifstream in(path);
+  ASSERT_TRUE(in) << "cannot read " << path;
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_TRUE(text.str() == expected)
+      << path << " differs from the text the parameter tables generate; to regenerate it, run "
+      << "DLO_UPDATE_GENERATED=1 ctest -R GeneratedFromTheTables, review the diff and commit.";
+}
+
+TEST(SlamConfig, TheShippedConfigFilesAreGeneratedFromTheTables) {
+  expectGenerated("config/dlo-slam.ini", slamConfigFileText());
+  expectGenerated("config/dlo.ini", dloConfigFileText());
+}
+
+TEST(SlamConfig, TheParameterReferenceIsGeneratedFromTheTables) {
+  expectGenerated("docs/parameters.md", parameterReferenceMarkdown());
+}
+
+TEST(SlamConfig, TheGeneratedConfigFileNamesEveryKeyWithItsDoc) {
+  const std::string text = slamConfigFileText();
+  for (const ParamField<SlamParams>& f : slamParamTable().fields()) {
+    const bool set = text.find("\n" + f.key + " = ") != std::string::npos;
+    const bool commented = text.find("\n;" + f.key + " = ") != std::string::npos;
+    EXPECT_TRUE(set || commented) << f.name();
+    // The doc's first words open the comment above the key.
+    const std::string start = "; " + f.doc.substr(0, std::min<size_t>(20, f.doc.size()));
+    EXPECT_NE(text.find(start), std::string::npos) << f.name();
+  }
+  // The profile's keys are commented out, the others are not.
+  EXPECT_NE(text.find("\n;reference = keyframe_map\n"), std::string::npos);
+  EXPECT_NE(text.find("\nlevelling = true\n"), std::string::npos);
+}
+
+TEST(SlamConfig, NamedValuesAreReadByNameAndTheOldNumbersAreRejectedWithTheName) {
+  SlamParams p;
+  applySlamParamOverrides(
+      p, {"odometry.reference=previous", "odometry.deskew=false", "loop.enabled=false"});
+  EXPECT_EQ(p.odometry.reference, Reference::kPreviousScan);
+  EXPECT_FALSE(p.odometry.deskew);
+  EXPECT_FALSE(p.loop.enabled);
+  try {
+    applySlamParamOverrides(p, {"odometry.reference=3"});
+    ADD_FAILURE() << "accepted odometry.reference=3";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("odometry.reference = scan_map"), std::string::npos)
+        << e.what();
+  }
+  try {
+    applySlamParamOverrides(p, {"odometry.levelling=yes"});
+    ADD_FAILURE() << "accepted odometry.levelling=yes";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("false or true"), std::string::npos) << e.what();
+  }
+}
+
 TEST(SlamConfig, OverridesReachEverySection) {
   SlamParams p;
-  applySlamParamOverrides(p, {"grid.resolution=0.2", "odometry.reference=0", "loop.enabled=0"});
+  applySlamParamOverrides(
+      p, {"grid.resolution=0.2", "odometry.reference=keyframe", "loop.enabled=false"});
   EXPECT_DOUBLE_EQ(p.registration.grid.resolution, 0.2);
-  EXPECT_EQ(p.odometry.reference, 0);
-  EXPECT_EQ(p.loop.enabled, 0);
+  EXPECT_EQ(p.odometry.reference, Reference::kKeyframe);
+  EXPECT_FALSE(p.loop.enabled);
 }
 
 TEST(SlamConfig, AnOutOfRangeValueNamesTheKeyAndTheRange) {
   SlamParams p;
   try {
-    applySlamParamOverrides(p, {"odometry.reference=5"});
-    FAIL() << "accepted odometry.reference=5";
+    applySlamParamOverrides(p, {"odometry.local_map_scans=500"});
+    FAIL() << "accepted odometry.local_map_scans=500";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("odometry.reference"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("0 (frame)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("odometry.local_map_scans"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("1..100"), std::string::npos) << e.what();
   }
 }
 

@@ -58,9 +58,9 @@ TEST(SlamOnSlopes, LevellingFollowsHeightAndPitchOverACrestWherePlanarOdometryCa
   const Eigen::Isometry3d mount = trajectory.sensorMount();
 
   SlamParams levelled;  // the defaults
-  ASSERT_EQ(levelled.odometry.levelling, 1);
+  ASSERT_TRUE(levelled.odometry.levelling);
   SlamParams planar = levelled;
-  planar.odometry.levelling = 0;
+  planar.odometry.levelling = false;
   LidarOdometry with(levelled), without(planar);
   Errors e_with, e_without;
   double climb = 0.0, turn = 0.0;

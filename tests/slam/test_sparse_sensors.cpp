@@ -79,7 +79,7 @@ ProfileRun runWithProfile(const Drive& d, const std::string& profile) {
   } while (source.next(scan));
   EXPECT_TRUE(source.stats().error.empty()) << source.stats().error;
   run.used = slam.params().registration;
-  if (slam.params().odometry.reference == 3) {
+  if (slam.params().odometry.reference == Reference::kScanMap) {
     expectKeyframesByMotion(slam.map(), slam.params().odometry);
   }
   const SlamAccuracy a = evaluateAgainst(slam.map(), d.truth);

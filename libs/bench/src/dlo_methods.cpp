@@ -11,8 +11,8 @@ SlamParams profileParams(const PointCloud& points) {
 }
 
 SlamParams DloFrameToFrame::paperParams(SlamParams params) {
-  params.odometry.reference = 0;
-  params.loop.enabled = 0;
+  params.odometry.reference = Reference::kPreviousScan;
+  params.loop.enabled = false;
   return params;
 }
 

@@ -101,4 +101,15 @@ std::string dloParamsToIni(const DloParams& params, const std::string& prefix) {
   return table().toIni(params, prefix);
 }
 
+std::string dloConfigFileText() {
+  return param_text::comment(
+             "DLO registration parameters (MRPT INI), generated from the parameter table "
+             "(docs/parameters.md lists the same). Used by dlo-register --config and by "
+             "mrpt::slam::CDirectHeightAligner::TConfigParams::loadFromConfigFile. Every key is "
+             "optional: a missing key keeps the default shown here. The defaults follow the "
+             "paper (400 x 400 cells of 0.10 m). A value out of range is rejected with a "
+             "message naming section.key and the accepted range.") +
+         "\n" + dloParamsToIni(DloParams());
+}
+
 }  // namespace dlo

@@ -42,6 +42,60 @@ double parse(const std::string& text, bool is_int, const std::string& name,
   return x;
 }
 
+std::string comment(const std::string& text) {
+  constexpr size_t kWidth = 100;
+  std::string out, line;
+  std::istringstream words(text);
+  std::string word;
+  while (words >> word) {
+    if (!line.empty() && line.size() + 1 + word.size() > kWidth) {
+      out += line + "\n";
+      line.clear();
+    }
+    line += line.empty() ? "; " + word : " " + word;
+  }
+  if (!line.empty()) out += line + "\n";
+  return out;
+}
+
+std::string nameList(const std::vector<NamedValue>& names) {
+  std::string out;
+  for (size_t i = 0; i < names.size(); ++i) {
+    if (i > 0) out += i + 1 == names.size() ? " or " : ", ";
+    out += names[i].name;
+  }
+  return out;
+}
+
+double parseNamed(const std::string& text, const std::vector<NamedValue>& names,
+                  const std::string& name, const std::string& where) {
+  const std::string v = trim(text);
+  for (const NamedValue& n : names) {
+    if (v == n.name) return n.value;
+  }
+  // The numbers these keys took before they had names (odometry.reference = 3, deskew = 1).
+  char* end = nullptr;
+  const double x = std::strtod(v.c_str(), &end);
+  if (!v.empty() && *end == '\0') {
+    for (const NamedValue& n : names) {
+      if (x == n.value) {
+        throw InputError("parameter " + name + " = '" + v + "' (" + where +
+                         ") is the old numeric form: write " + name + " = " + n.name + " (one of " +
+                         nameList(names) + ").");
+      }
+    }
+  }
+  throw InputError("parameter " + name + " = '" + v + "' (" + where + ") must be one of " +
+                   nameList(names) + ".");
+}
+
+std::string named(double x, const std::vector<NamedValue>& names) {
+  for (const NamedValue& n : names) {
+    if (n.value == x) return n.name;
+  }
+  return exact(x, true);
+}
+
 std::string exact(double x, bool is_int) {
   if (is_int) return std::to_string(static_cast<long long>(x));
   // Shortest text that reads back exactly: 0.1 rather than 0.10000000000000001.

@@ -152,21 +152,22 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     predictMotionCovariance(std::min(dt, 1.0));
   }
 
-  // With the scan map (reference = 3) every sweep has two readers, its grid and the map: it is
-  // deskewed once, into a buffer kept across scans (applying the motion in both costs more).
+  // With the scan map (reference = scan_map) every sweep has two readers, its grid and the map: it
+  // is deskewed once, into a buffer kept across scans (applying the motion in both costs more).
   // Otherwise it is deskewed while it is rasterised, with no copy (deskew_ms is then the motion
   // table only and grid_ms includes moving the points), and copied only for a keyframe.
   Stopwatch deskew_watch;
   const std::vector<float>& times = sweepTimes(points, point_times, step);
   const bool deskew = !times.empty() && frames_ > 0;
-  const bool copy = deskew && params_.odometry.reference == 3;
+  const bool copy = deskew && params_.odometry.reference == Reference::kScanMap;
   SweepMotion motion;
   const SweepMotion none;
   const PointCloud* cloud_ptr = &points;
   const SweepMotion* pending_ptr = &none;  // what the cloud still has to be moved by
   // Frame to frame, this scan becomes the next reference; otherwise it never is one.
-  const FrameUse use =
-      params_.odometry.reference == 0 ? FrameUse::kCurrentAndReference : FrameUse::kCurrentOnly;
+  const FrameUse use = params_.odometry.reference == Reference::kPreviousScan
+                           ? FrameUse::kCurrentAndReference
+                           : FrameUse::kCurrentOnly;
   // The current frame, deskewed with the body twist `v`; the deskewing's time (the motion
   // table, and the copy for the scan map) is added to deskew_ms.
   Vector6d deskew_velocity = Vector6d::Zero();  // what the current frame was deskewed with
@@ -349,7 +350,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
       first_times_ = times;
     }
   }
-  if (params_.odometry.reference == 0 && !current_.empty()) {
+  if (params_.odometry.reference == Reference::kPreviousScan && !current_.empty()) {
     // Frame to frame, as in the paper: this scan is the next reference.
     std::swap(reference_, current_);
     reference_pose_ = pose;
@@ -358,7 +359,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   step.times.keyframe_ms = keyframe_watch.elapsedMs();
   // Only scans whose pose was measured go into the map: a rejected one (a large moving object,
   // a wrong basin) would smear what the next scans are registered against.
-  if (params_.odometry.reference == 3 && !current_.empty() &&
+  if (params_.odometry.reference == Reference::kScanMap && !current_.empty() &&
       (first || (step.registered && !step.rejected))) {
     Stopwatch map_watch;
     updateScanMap(*cloud_ptr, pose);
@@ -795,7 +796,7 @@ bool LidarOdometry::needsKeyframe(const Eigen::Isometry3d& pose, const Alignment
   // poor keyframe, so it waits for structure to return. Frame to frame and with the scan map
   // the reference moves on every scan anyway, and sparse fits, above the bound nearly always,
   // made a keyframe of nearly every scan: a graph node, a cloud and a loop search each.
-  if (o.reference != 1 && o.reference != 2) return false;
+  if (o.reference != Reference::kKeyframe && o.reference != Reference::kKeyframeMap) return false;
   if (!(o.keyframe_max_rms > 0.0)) return false;
   if (r.degenerate || r.rms_height_error <= o.keyframe_max_rms) return false;
   // Optionally, poor compared with what a new keyframe gives here as well: a fit against one
@@ -816,9 +817,10 @@ void LidarOdometry::addKeyframe(const Eigen::Isometry3d& pose, const PointCloud&
   step.new_keyframe = true;
   last_keyframe_pose_ = pose;
   awaiting_fresh_fit_ = true;
-  if (o.reference != 1 && o.reference != 2) return;
+  if (o.reference != Reference::kKeyframe && o.reference != Reference::kKeyframeMap) return;
   recent_.push_back(RecentKeyframe{pose, std::move(fine)});
-  const size_t keep = o.reference == 1 ? 1 : static_cast<size_t>(o.local_map_keyframes);
+  const size_t keep =
+      o.reference == Reference::kKeyframe ? 1 : static_cast<size_t>(o.local_map_keyframes);
   while (recent_.size() > keep) recent_.pop_front();
   rebuildLocalMap();
 }
@@ -828,9 +830,9 @@ void LidarOdometry::decimate(const PointCloud& points, const SweepMotion& motion
   const OdometryParams& o = params_.odometry;
   nearPoints(points, motion, o.map_range, near_);
   fine.clear();
-  // Only the keyframe map (reference 1 or 2) reads `fine`: frame to frame and with the scan map
-  // (sparse sensors) it is not made at all.
-  if (o.reference == 1 || o.reference == 2) {
+  // Only the keyframe map (reference keyframe or keyframe_map) reads `fine`: frame to frame and
+  // with the scan map (sparse sensors) it is not made at all.
+  if (o.reference == Reference::kKeyframe || o.reference == Reference::kKeyframeMap) {
     if (o.keyframe_voxel > 0.0) {
       fine = voxelise(near_, o.keyframe_voxel);
       coarse = voxelise(fine, o.map_voxel);
@@ -849,12 +851,13 @@ void LidarOdometry::redoFirstKeyframe(OdometryStep& step) {
   const PointCloud first = dlo::deskew(first_points_, first_times_, velocity_);
   WeightedCloud fine;
   decimate(first, SweepMotion(), fine, step.first_keyframe_cloud);
-  const int reference = params_.odometry.reference;
-  if ((reference == 1 || reference == 2) && !recent_.empty()) {
+  const Reference reference = params_.odometry.reference;
+  if ((reference == Reference::kKeyframe || reference == Reference::kKeyframeMap) &&
+      !recent_.empty()) {
     recent_.front().cloud = std::move(fine);
     rebuildLocalMap();
   }
-  if (reference == 3) {
+  if (reference == Reference::kScanMap) {
     // The scan map starts again from the deskewed first scan (at 10 m/s the raw one is
     // stretched by a metre); this scan joins it next.
     LocalHeightMap& map = scanMap();

@@ -1,6 +1,11 @@
 #include "dlo/slam/slam_config.h"
 
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <algorithm>
+
 #include "dlo/mrpt/dlo_config.h"
+#include "dlo/slam/sensor_profile.h"
 
 namespace dlo {
 
@@ -16,20 +21,23 @@ std::vector<ParamField<SlamParams>> fields() {
   }
   const std::vector<ParamField<S>> own = {
       paramField("odometry", "reference", &S::odometry, &O::reference,
-                 "what each scan is registered against: 0 = previous scan (the paper's "
-                 "frame-to-frame), 1 = last keyframe, 2 = local map of recent keyframes, 3 = "
-                 "world-fixed local height map of the last registered scans, updated every scan"),
+                 "what each scan is registered against: previous (the previous scan, the "
+                 "paper's frame-to-frame), keyframe (the last keyframe), keyframe_map (a local "
+                 "map of recent keyframes) or scan_map (a world-fixed local height map of the "
+                 "last registered scans, updated every scan)",
+                 {{"previous", 0}, {"keyframe", 1}, {"keyframe_map", 2}, {"scan_map", 3}}),
       paramField("odometry", "levelling", &S::odometry, &O::levelling,
-                 "1: z, roll and pitch of each scan measured from its ground laid on the "
+                 "true: z, roll and pitch of each scan measured from its ground laid on the "
                  "reference's ground, x, y and yaw registered by solver.dof = 3 (a 3D "
-                 "trajectory); 0: z, roll and pitch kept as predicted (the paper's planar "
-                 "3-DoF); ignored with solver.dof = 6, which solves all six jointly"),
+                 "trajectory); false: z, roll and pitch kept as predicted (the paper's planar "
+                 "3-DoF); ignored with solver.dof = 6, which solves all six jointly",
+                 booleanNames()),
       paramField("odometry", "local_map_keyframes", &S::odometry, &O::local_map_keyframes,
-                 "keyframes fused into the local map (reference = 2)"),
+                 "keyframes fused into the local map (reference = keyframe_map)"),
       paramField("odometry", "local_map_scans", &S::odometry, &O::local_map_scans,
-                 "registered scans in the local height map (reference = 3)"),
+                 "registered scans in the local height map (reference = scan_map)"),
       paramField("odometry", "local_map_spacing", &S::odometry, &O::local_map_spacing,
-                 "metres; a registered scan joins the local height map (reference = 3) only "
+                 "metres; a registered scan joins the local height map (reference = scan_map) only "
                  "this far from the last scan that joined it, so that the map's scans are "
                  "spread out and the pattern of rings that travels with a sparse sensor "
                  "cancels out; 0: every scan joins"),
@@ -57,10 +65,11 @@ std::vector<ParamField<SlamParams>> fields() {
                  "metres travelled since the last keyframe that make a new one"),
       paramField("odometry", "keyframe_angle", &S::odometry, &O::keyframe_angle,
                  "degrees turned since the last keyframe that make a new one"),
-      paramField("odometry", "keyframe_max_rms", &S::odometry, &O::keyframe_max_rms,
-                 "0 (off) or the registration RMS height error (m) above which the scan "
-                 "becomes a keyframe (reference 1 or 2 only: their reference is made of "
-                 "keyframes)"),
+      paramField(
+          "odometry", "keyframe_max_rms", &S::odometry, &O::keyframe_max_rms,
+          "0 (off) or the registration RMS height error (m) above which the scan "
+          "becomes a keyframe (reference keyframe or keyframe_map only: their reference is made of "
+          "keyframes)"),
       paramField("odometry", "keyframe_rms_ratio", &S::odometry, &O::keyframe_rms_ratio,
                  "0 (off) or >= 1: a fit above keyframe_max_rms makes a keyframe only if it is "
                  "also this many times worse than the first fits against the last 5 keyframes"),
@@ -70,13 +79,15 @@ std::vector<ParamField<SlamParams>> fields() {
                  "metres; decimation of keyframe clouds kept for loop closure and the map"),
       paramField("odometry", "map_range", &S::odometry, &O::map_range,
                  "metres; keyframe points farther than this from the vehicle are not kept"),
-      paramField(
-          "odometry", "deskew", &S::odometry, &O::deskew,
-          "1: undo motion distortion (with the points' times, measured or estimated); 0: off"),
+      paramField("odometry", "deskew", &S::odometry, &O::deskew,
+                 "true: undo motion distortion (with the points' times, measured or "
+                 "estimated); false: off",
+                 booleanNames()),
       paramField("odometry", "estimate_times", &S::odometry, &O::estimate_times,
-                 "1: scans without per-point times (KITTI .bin, PLY, point-cloud observations) "
-                 "get them estimated from the points' azimuths and are deskewed; 0: used as "
-                 "they are"),
+                 "true: scans without per-point times (KITTI .bin, PLY, point-cloud "
+                 "observations) get them estimated from the points' azimuths and are deskewed; "
+                 "false: used as they are",
+                 booleanNames()),
       paramField("odometry", "sweep_period", &S::odometry, &O::sweep_period,
                  "seconds per revolution of the sensor (estimated times)"),
       paramField("odometry", "sweep_direction", &S::odometry, &O::sweep_direction,
@@ -91,7 +102,8 @@ std::vector<ParamField<SlamParams>> fields() {
       paramField("odometry", "resident_keyframes", &S::odometry, &O::resident_keyframes,
                  "keyframe clouds kept in memory; older ones wait in a temporary file until "
                  "loop closure or export reads them (flat memory on long runs); 0: all in memory"),
-      paramField("loop", "enabled", &S::loop, &L::enabled, "1: search and close loops; 0: off"),
+      paramField("loop", "enabled", &S::loop, &L::enabled,
+                 "true: search and close loops; false: off", booleanNames()),
       paramField("loop", "search_radius", &S::loop, &L::search_radius,
                  "metres between keyframe positions for a loop candidate"),
       paramField("loop", "min_path", &S::loop, &L::min_path,
@@ -136,6 +148,89 @@ void applySlamParamOverrides(SlamParams& params, const std::vector<std::string>&
 
 std::string slamParamsToIni(const SlamParams& params) {
   return slamParamTable().toIni(params, "");
+}
+
+std::vector<std::string> sensorProfileKeys() {
+  std::vector<std::string> keys;
+  for (const SensorProfile& profile : sensorProfiles()) {
+    mrpt::config::CConfigFileMemory ini(profile.ini);
+    std::vector<std::string> sections;
+    ini.getAllSections(sections);
+    for (const std::string& section : sections) {
+      std::vector<std::string> section_keys;
+      ini.getAllKeys(section, section_keys);
+      for (const std::string& key : section_keys) {
+        const std::string name = section + "." + key;
+        if (std::find(keys.begin(), keys.end(), name) == keys.end()) keys.push_back(name);
+      }
+    }
+  }
+  // In the order of the table, as the files list them.
+  std::vector<std::string> ordered;
+  for (const ParamField<SlamParams>& f : slamParamTable().fields()) {
+    if (std::find(keys.begin(), keys.end(), f.name()) != keys.end()) ordered.push_back(f.name());
+  }
+  return ordered;
+}
+
+std::string slamConfigFileText() {
+  const std::vector<std::string> profile_keys = sensorProfileKeys();
+  std::string listed;
+  for (size_t i = 0; i < profile_keys.size(); ++i) {
+    listed += (i == 0 ? "" : i + 1 == profile_keys.size() ? " and " : ", ") + profile_keys[i];
+  }
+  return param_text::comment(
+             "dlo-slam parameters (MRPT INI), generated from the parameter tables "
+             "(docs/parameters.md lists the same). [grid] [selection] [solver] configure each "
+             "registration (as in config/dlo.ini); [odometry] and [loop] the pipeline around it. "
+             "Use with: dlo-slam --config config/dlo-slam.ini, and override single keys with "
+             "--set section.key=value; dlo-slam --dump-config prints the effective "
+             "configuration. Every key is optional: a missing key keeps the default shown here. "
+             "A value out of range is rejected naming section.key and the range.") +
+         ";\n" +
+         param_text::comment(
+             "The keys that depend on the kind of sensor (" + listed +
+             ") are set by the sensor profile, config/sensors/dense.ini or sparse.ini, which "
+             "dlo-slam picks from the input (--sensor-profile); they are commented out below, "
+             "with the dense profile's values: uncomment one to use it with every sensor. This "
+             "file and --set apply on top of the profile; report.json names the profile and "
+             "shows the configuration used.") +
+         "\n" + slamParamTable().toIni(SlamParams(), "", profile_keys, "(sensor profile)");
+}
+
+std::string parameterReferenceMarkdown() {
+  const ParamTable<SlamParams>& table = slamParamTable();
+  std::vector<std::pair<std::string, SlamParams>> profiles;
+  for (const SensorProfile& p : sensorProfiles())
+    profiles.emplace_back(p.name, resolveSlamParams(p.name, {}));
+  const std::vector<std::string> profile_keys = sensorProfileKeys();
+  std::string out =
+      "# Parameters\n\n"
+      "Generated from the parameter tables (`libs/mrpt/src/dlo_config.cpp`, "
+      "`libs/slam/src/slam_config.cpp`), like the comments of `config/dlo.ini` and "
+      "`config/dlo-slam.ini` and `dlo-slam --dump-config`; a test fails when one of them "
+      "differs. `dlo-register` and `CDirectHeightAligner` read [grid] [selection] [solver]; "
+      "`dlo-slam` all five sections. Set a key in an INI file (`--config`) or with "
+      "`--set section.key=value`. Keys marked *profile* are set by the sensor profile "
+      "(`config/sensors/`), which dlo-slam picks from the input.\n";
+  std::string current;
+  for (const ParamField<SlamParams>& f : table.fields()) {
+    if (f.section != current) {
+      current = f.section;
+      out += "\n## [" + current + "]\n\n| key | default | description |\n|---|---|---|\n";
+    }
+    std::string value = "`" + ParamTable<SlamParams>::text(f, SlamParams()) + "`";
+    if (std::find(profile_keys.begin(), profile_keys.end(), f.name()) != profile_keys.end()) {
+      value = "*profile*:";
+      for (const auto& [name, params] : profiles)
+        value += " " + name + " `" + ParamTable<SlamParams>::text(f, params) + "`";
+    }
+    std::string doc = f.doc;
+    for (size_t at = 0; (at = doc.find('|', at)) != std::string::npos; at += 2)
+      doc.replace(at, 1, "\\|");
+    out += "| `" + f.key + "` | " + value + " | " + doc + " |\n";
+  }
+  return out;
 }
 
 }  // namespace dlo

@@ -7,11 +7,11 @@ namespace dlo {
 std::string SlamParams::validate() const {
   if (std::string e = registration.validate(); !e.empty()) return e;
   const OdometryParams& o = odometry;
-  if (o.reference < 0 || o.reference > 3)
-    return outOfRange("odometry.reference", o.reference,
-                      "0 (frame), 1 (keyframe), 2 (keyframe map) or 3 (scan map)");
-  if (o.levelling != 0 && o.levelling != 1)
-    return outOfRange("odometry.levelling", o.levelling, "0 or 1");
+  // An enum set from code can hold any int; the INI names cannot.
+  const int reference = static_cast<int>(o.reference);
+  if (reference < 0 || reference > 3)
+    return outOfRange("odometry.reference", reference,
+                      "previous, keyframe, keyframe_map or scan_map");
   if (o.local_map_keyframes < 1 || o.local_map_keyframes > 50)
     return outOfRange("odometry.local_map_keyframes", o.local_map_keyframes, "1..50");
   if (o.local_map_scans < 1 || o.local_map_scans > 100)
@@ -46,9 +46,6 @@ std::string SlamParams::validate() const {
   if (!(o.map_voxel > 0.0 && o.map_voxel <= 5.0))
     return outOfRange("odometry.map_voxel", o.map_voxel, "(0, 5] metres");
   if (!(o.map_range > 1.0)) return outOfRange("odometry.map_range", o.map_range, "> 1 metre");
-  if (o.deskew != 0 && o.deskew != 1) return outOfRange("odometry.deskew", o.deskew, "0 or 1");
-  if (o.estimate_times != 0 && o.estimate_times != 1)
-    return outOfRange("odometry.estimate_times", o.estimate_times, "0 or 1");
   if (!(o.sweep_period > 0.0 && o.sweep_period <= 1.0))
     return outOfRange("odometry.sweep_period", o.sweep_period, "(0, 1] seconds");
   if (o.sweep_direction != -1 && o.sweep_direction != 1)
@@ -62,7 +59,6 @@ std::string SlamParams::validate() const {
     return outOfRange("odometry.resident_keyframes", o.resident_keyframes,
                       "0 (all in memory) or more keyframes");
   const LoopParams& l = loop;
-  if (l.enabled != 0 && l.enabled != 1) return outOfRange("loop.enabled", l.enabled, "0 or 1");
   if (!(l.search_radius > 0.0))
     return outOfRange("loop.search_radius", l.search_radius, "a positive distance");
   if (!(l.min_path >= 0.0)) return outOfRange("loop.min_path", l.min_path, ">= 0 metres");

@@ -15,7 +15,7 @@ namespace dlo::bench {
 /// not, the rings blur and the point count decides).
 SlamParams profileParams(const PointCloud& points);
 
-/// The paper's DLO: every scan registered against the previous one (odometry.reference = 0),
+/// The paper's DLO: every scan registered against the previous one (odometry.reference = previous),
 /// no loop closure, through dlo::LidarOdometry (its own constant-velocity prediction and
 /// deskewing).
 class DloFrameToFrame : public OdometryMethod {

@@ -48,4 +48,8 @@ void saveDloParams(const DloParams& params, mrpt::config::CConfigFileBase& confi
 /// this text gives back `params` exactly.
 std::string dloParamsToIni(const DloParams& params, const std::string& prefix = "");
 
+/// The text of config/dlo.ini: a header, then every key with its doc and default. The shipped
+/// file is this text (a test compares them).
+std::string dloConfigFileText();
+
 }  // namespace dlo

@@ -9,14 +9,29 @@
 #pragma once
 
 #include <mrpt/config/CConfigFileBase.h>
+#include <algorithm>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <vector>
 
 namespace dlo {
 
-/// One INI key of the parameter struct P. Integers travel as doubles (exact up to 2^53).
+/// A value of a parameter that takes one of a few named values (an enum, a boolean), as the
+/// INI file spells it and as the field stores it.
+struct NamedValue {
+  std::string name;
+  double value;
+};
+
+/// The names of a boolean parameter: false and true.
+inline std::vector<NamedValue> booleanNames() {
+  return {{"false", 0.0}, {"true", 1.0}};
+}
+
+/// One INI key of the parameter struct P. Numbers travel as doubles (integers exact up to
+/// 2^53); a field with `names` is written and read by those names only.
 template <typename P>
 struct ParamField {
   std::string section;
@@ -25,22 +40,40 @@ struct ParamField {
   bool is_int = false;
   std::function<double(const P&)> get;
   std::function<void(P&, double)> set;
+  std::vector<NamedValue> names;  ///< empty: a number
 
   std::string name() const { return section + "." + key; }
 };
 
 /// The field `member` of the group `group` of P, e.g. paramField("grid", "cols", &DloParams::grid,
 /// &HeightGridParams::cols, "cells along x").
+/// Booleans and enums need `names` (for a bool, booleanNames()); ints may have them
+/// (solver.dof: "3" or "6").
 template <typename P, typename G, typename T>
 ParamField<P> paramField(const char* section, const char* key, G P::*group, T G::*member,
-                         const char* doc) {
-  static_assert(std::is_same_v<T, int> || std::is_same_v<T, double>, "int or double parameters");
-  return ParamField<P>{section,
-                       key,
-                       doc,
-                       std::is_same_v<T, int>,
-                       [group, member](const P& p) { return double((p.*group).*member); },
-                       [group, member](P& p, double v) { (p.*group).*member = static_cast<T>(v); }};
+                         const char* doc, std::vector<NamedValue> names = {}) {
+  static_assert(std::is_same_v<T, int> || std::is_same_v<T, double> || std::is_same_v<T, bool> ||
+                    std::is_enum_v<T>,
+                "int, double, bool or enum parameters");
+  if constexpr (std::is_same_v<T, bool> || std::is_enum_v<T>) {
+    if (names.empty()) throw std::logic_error(std::string("paramField: ") + key + " needs names");
+  }
+  return ParamField<P>{
+      section,
+      key,
+      doc,
+      !std::is_same_v<T, double>,
+      [group, member](const P& p) { return static_cast<double>((p.*group).*member); },
+      [group, member](P& p, double v) {
+        if constexpr (std::is_same_v<T, bool>) {
+          (p.*group).*member = v != 0.0;
+        } else if constexpr (std::is_enum_v<T>) {
+          (p.*group).*member = static_cast<T>(static_cast<int>(v));
+        } else {
+          (p.*group).*member = static_cast<T>(v);
+        }
+      },
+      std::move(names)};
 }
 
 /// A field of an inner struct I, reached through the member `inner` of P.
@@ -51,7 +84,8 @@ ParamField<P> liftField(const ParamField<I>& f, I P::*inner) {
                        f.doc,
                        f.is_int,
                        [g = f.get, inner](const P& p) { return g(p.*inner); },
-                       [s = f.set, inner](P& p, double v) { s(p.*inner, v); }};
+                       [s = f.set, inner](P& p, double v) { s(p.*inner, v); },
+                       f.names};
 }
 
 /// Helpers of ParamTable that do not depend on P.
@@ -62,8 +96,18 @@ std::string trim(const std::string& s);
 /// Parses `text` as an integer or a number. \throws InputError naming `name` and `where`.
 double parse(const std::string& text, bool is_int, const std::string& name,
              const std::string& where);
+/// Parses `text` as one of `names`. \throws InputError naming `name`, `where` and the names
+/// accepted; for a number that was the value's old spelling, also the name to write instead.
+double parseNamed(const std::string& text, const std::vector<NamedValue>& names,
+                  const std::string& name, const std::string& where);
 /// Shortest decimal text that reads back to exactly `x`.
 std::string exact(double x, bool is_int);
+/// The name of `x` among `names`, or exact(x, true) if it has none.
+std::string named(double x, const std::vector<NamedValue>& names);
+/// "a, b or c".
+std::string nameList(const std::vector<NamedValue>& names);
+/// `text` as INI comment lines ("; " and at most 100 characters each, words kept whole).
+std::string comment(const std::string& text);
 /// Throws InputError(problem) if problem is not empty.
 void throwIfProblem(const std::string& problem);
 /// Throws InputError(problem).
@@ -84,6 +128,12 @@ class ParamTable {
 
   const std::vector<ParamField<P>>& fields() const { return fields_; }
 
+  /// The value of `f` in `params` as the INI file spells it.
+  static std::string text(const ParamField<P>& f, const P& params) {
+    return f.names.empty() ? param_text::exact(f.get(params), f.is_int)
+                           : param_text::named(f.get(params), f.names);
+  }
+
   /// Reads P from `config` starting from `defaults`; sections named prefix.section.
   P load(const mrpt::config::CConfigFileBase& config, const std::string& prefix,
          const P& defaults) const {
@@ -96,8 +146,7 @@ class ParamTable {
       for (const std::string& key : keys) {
         const ParamField<P>* f = find(section, key);
         if (!f) unknown(section + "." + key, "in section [" + name + "]");
-        f->set(p, param_text::parse(config.read_string(name, key, "", true), f->is_int, f->name(),
-                                    "in section [" + name + "]"));
+        f->set(p, read(*f, config.read_string(name, key, "", true), "in section [" + name + "]"));
       }
     }
     param_text::throwIfProblem(validate_(p));
@@ -120,7 +169,7 @@ class ParamTable {
       const std::string key = param_text::trim(a.substr(dot + 1, eq - dot - 1));
       const ParamField<P>* f = find(section, key);
       if (!f) unknown(section + "." + key, "in override '" + a + "'");
-      f->set(p, param_text::parse(a.substr(eq + 1), f->is_int, f->name(), "override '" + a + "'"));
+      f->set(p, read(*f, a.substr(eq + 1), "override '" + a + "'"));
     }
     param_text::throwIfProblem(validate_(p));
     params = p;
@@ -130,13 +179,21 @@ class ParamTable {
   void save(const P& params, mrpt::config::CConfigFileBase& config,
             const std::string& prefix) const {
     for (const ParamField<P>& f : fields_) {
-      config.write(param_text::sectionName(prefix, f.section), f.key,
-                   param_text::exact(f.get(params), f.is_int));
+      config.write(param_text::sectionName(prefix, f.section), f.key, text(f, params));
     }
   }
 
   /// Commented INI text; load() of it gives back `params` exactly.
   std::string toIni(const P& params, const std::string& prefix) const {
+    return toIni(params, prefix, {}, "");
+  }
+
+  /// Commented INI text as a shipped config file has it: every key's doc wrapped as "; "
+  /// comment lines, then the key; the keys named in `commented_out` ("section.key") are
+  /// written commented out (";key = value") with `commented_note` appended to their doc.
+  std::string toIni(const P& params, const std::string& prefix,
+                    const std::vector<std::string>& commented_out,
+                    const std::string& commented_note) const {
     std::string out, current;
     for (const ParamField<P>& f : fields_) {
       if (current != f.section) {
@@ -144,13 +201,19 @@ class ParamTable {
         current = f.section;
         out += "[" + param_text::sectionName(prefix, f.section) + "]\n";
       }
-      out +=
-          "; " + f.doc + "\n" + f.key + " = " + param_text::exact(f.get(params), f.is_int) + "\n";
+      const bool off =
+          std::find(commented_out.begin(), commented_out.end(), f.name()) != commented_out.end();
+      out += param_text::comment(off ? f.doc + " " + commented_note : f.doc);
+      out += (off ? ";" : "") + f.key + " = " + text(f, params) + "\n";
     }
     return out;
   }
 
  private:
+  static double read(const ParamField<P>& f, const std::string& value, const std::string& where) {
+    return f.names.empty() ? param_text::parse(value, f.is_int, f.name(), where)
+                           : param_text::parseNamed(value, f.names, f.name(), where);
+  }
   std::vector<std::string> sections() const {
     std::vector<std::string> out;
     for (const ParamField<P>& f : fields_)

@@ -21,7 +21,7 @@ struct OdometryTimes {
   double deskew_ms = 0.0;
   StageTimes registration;    ///< the current frame's build (grid, gradients, selection) + solve
   double keyframe_ms = 0.0;   ///< decimating a new keyframe and rebuilding the reference
-  double local_map_ms = 0.0;  ///< reference = 3: adding the scan to the map, new reference
+  double local_map_ms = 0.0;  ///< reference = scan_map: adding the scan to the map, new reference
   double ground_ms = 0.0;     ///< odometry.levelling: the ground's fit and its alignments
   double totalMs() const {
     return deskew_ms + registration.totalMs() + keyframe_ms + local_map_ms + ground_ms;
@@ -185,7 +185,7 @@ class LidarOdometry {
   void addKeyframe(const Eigen::Isometry3d& pose, const PointCloud& points,
                    const SweepMotion& motion, OdometryStep& step);
   void rebuildLocalMap();
-  /// reference = 3: adds a registered, deskewed scan to the local height map and re-extracts
+  /// reference = scan_map: adds a registered, deskewed scan to the local height map and re-extracts
   /// the reference around its pose.
   void updateScanMap(const PointCloud& points, const Eigen::Isometry3d& pose);
   /// The scan map, made on first use: a dense sensor that never uses it does not pay for its
@@ -203,13 +203,13 @@ class LidarOdometry {
   HeightFrame current_;         ///< reused for every scan
   GroundSurface ground_;        ///< the current frame's ground, see onGround()
   bool ground_fitted_ = false;  ///< ground_ is that of current_ as last built
-  PointCloud deskewed_;         ///< reference = 3: the scan deskewed, memory reused for every scan
-  PointCloud near_;             ///< a keyframe's points within map_range, memory reused
+  PointCloud deskewed_;  ///< reference = scan_map: the scan deskewed, memory reused for every scan
+  PointCloud near_;      ///< a keyframe's points within map_range, memory reused
   std::vector<float> estimated_times_;  ///< sweepTimes() of scans without times, memory reused
   HeightFrame reference_;               ///< previous scan, last keyframe or local map
   Eigen::Isometry3d reference_pose_ = Eigen::Isometry3d::Identity();  ///< odometry frame
   std::deque<RecentKeyframe> recent_;
-  std::optional<LocalHeightMap> scan_map_;                       ///< reference = 3, see scanMap()
+  std::optional<LocalHeightMap> scan_map_;  ///< reference = scan_map, see scanMap()
   Eigen::Vector2d last_map_position_ = Eigen::Vector2d::Zero();  ///< of the last scan it took
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d last_keyframe_pose_ = Eigen::Isometry3d::Identity();

@@ -25,4 +25,16 @@ void applySlamParamOverrides(SlamParams& params, const std::vector<std::string>&
 /// Commented INI text of all parameters.
 std::string slamParamsToIni(const SlamParams& params);
 
+/// The keys ("section.key") that the built-in sensor profiles set.
+std::vector<std::string> sensorProfileKeys();
+
+/// The text of config/dlo-slam.ini: a header, then every key with its doc and default, the
+/// keys of the sensor profiles commented out. The shipped file is this text (a test compares
+/// them).
+std::string slamConfigFileText();
+
+/// docs/parameters.md: every key of every section with its default (and each profile's
+/// value where a sensor profile sets it) and its doc, from the same table.
+std::string parameterReferenceMarkdown();
+
 }  // namespace dlo

@@ -9,27 +9,36 @@
 
 namespace dlo {
 
+/// What each scan is registered against (odometry.reference; the INI names in quotes).
+enum class Reference {
+  kPreviousScan = 0,  ///< "previous": the previous scan (the paper's frame-to-frame)
+  kKeyframe = 1,      ///< "keyframe": the last keyframe
+  kKeyframeMap = 2,   ///< "keyframe_map": a height map fused from the last local_map_keyframes
+  /// "scan_map": a world-fixed local height map of the last local_map_scans registered scans,
+  /// updated every scan (dlo::LocalHeightMap; what sparse sensors need:
+  /// config/sensors/sparse.ini).
+  kScanMap = 3,
+};
+
 /// Odometry and keyframes (INI section [odometry]).
 struct OdometryParams {
-  /// What each scan is registered against: 0 = the previous scan (the paper's frame-to-frame),
-  /// 1 = the last keyframe, 2 = a local height map fused from the last `local_map_keyframes`,
-  /// 3 = a world-fixed local height map of the last `local_map_scans` registered scans, updated
-  /// every scan (dlo::LocalHeightMap; what sparse sensors need: config/sensors/sparse.ini).
-  int reference = 2;
-  /// 1: z, roll and pitch of every scan are measured from its ground (dlo::fitGroundSurface)
+  /// What each scan is registered against.
+  Reference reference = Reference::kKeyframeMap;
+  /// true: z, roll and pitch of every scan are measured from its ground (dlo::fitGroundSurface)
   /// laid on the reference's ground at the registered x, y and heading (dlo::alignToGround),
-  /// with solver.dof = 3 registering x, y and yaw: a 3D trajectory. 0: they stay as predicted,
-  /// the paper's planar 3-DoF odometry. solver.dof = 6 solves all six jointly and ignores this.
-  int levelling = 1;
-  int local_map_keyframes = 4;  ///< keyframes fused into the local map (reference = 2)
-  /// Registered scans in the local height map (reference = 3). Fewer scans let a wrongly placed
-  /// one leave the map sooner: over 20 simulated HDL-32 drives 15 ended 2 above 1 m ATE against
-  /// 5 with 30 (median 0.40 against 0.49 m), over 40 VLP-16 drives 12 against 18.
+  /// with solver.dof = 3 registering x, y and yaw: a 3D trajectory. false: they stay as
+  /// predicted, the paper's planar 3-DoF odometry. solver.dof = 6 solves all six jointly and
+  /// ignores this.
+  bool levelling = true;
+  int local_map_keyframes = 4;  ///< keyframes fused into the local map (reference = keyframe_map)
+  /// Registered scans in the local height map (reference = scan_map). Fewer scans let a wrongly
+  /// placed one leave the map sooner: over 20 simulated HDL-32 drives 15 ended 2 above 1 m ATE
+  /// against 5 with 30 (median 0.40 against 0.49 m), over 40 VLP-16 drives 12 against 18.
   int local_map_scans = 15;
-  /// Metres: a registered scan joins the scan map (reference = 3) only this far from the last
-  /// scan that joined it. Each sparse scan's pattern of rings and holes travels with the sensor
-  /// and pulls a registration towards where that scan was taken; scans a few centimetres apart
-  /// (a robot at 1.5 m/s) add the same pattern again, spread over metres they cancel out. 0:
+  /// Metres: a registered scan joins the scan map (reference = scan_map) only this far from the
+  /// last scan that joined it. Each sparse scan's pattern of rings and holes travels with the
+  /// sensor and pulls a registration towards where that scan was taken; scans a few centimetres
+  /// apart (a robot at 1.5 m/s) add the same pattern again, spread over metres they cancel out. 0:
   /// every registered scan joins.
   double local_map_spacing = 0.6;
   /// Metres: a registration farther than this from the constant-velocity prediction (rotations
@@ -56,7 +65,7 @@ struct OdometryParams {
   double keyframe_distance = 2.0;  ///< metres travelled since the last keyframe: new keyframe
   double keyframe_angle = 10.0;    ///< degrees turned since the last keyframe: new keyframe
   /// 0 (off), or the registration RMS height error (m) above which a scan becomes a keyframe,
-  /// with reference 1 or 2 (whose reference is made of keyframes) only, and where
+  /// with reference keyframe or keyframe_map (whose reference is made of keyframes) only, and where
   /// keyframe_rms_ratio is set, only if the fit is also that many times worse than fresh
   /// keyframes give. Off by default: the height error is dominated by the edges of walls and
   /// canopies, above any fixed bound on real and 128-beam scans even right after a keyframe, and
@@ -76,11 +85,11 @@ struct OdometryParams {
   double keyframe_voxel = 0.1;
   double map_voxel = 0.2;   ///< metres; decimation of keyframe clouds kept for the map
   double map_range = 40.0;  ///< metres; keyframe points farther than this are not kept
-  int deskew = 1;           ///< 1: undo motion distortion (measured or estimated times)
-  /// 1: a scan without per-point times (KITTI .bin, PLY, CObservationPointCloud) gets them
+  bool deskew = true;       ///< undo motion distortion (measured or estimated times)
+  /// true: a scan without per-point times (KITTI .bin, PLY, CObservationPointCloud) gets them
   /// estimated from the points' azimuths (dlo::estimateSweepTimes) and is deskewed like the
-  /// others; 0: such scans are used as they are.
-  int estimate_times = 1;
+  /// others; false: such scans are used as they are.
+  bool estimate_times = true;
   double sweep_period = 0.1;  ///< seconds per revolution of the sensor (estimate_times)
   /// Spin direction, -1 clockwise seen from above (Velodyne, Ouster, Hesai) or +1; used when
   /// the point order does not reveal it (estimate_times).
@@ -99,7 +108,7 @@ struct OdometryParams {
 
 /// Loop closure (INI section [loop]).
 struct LoopParams {
-  int enabled = 1;              ///< 0 disables loop closure
+  bool enabled = true;          ///< false disables loop closure
   double search_radius = 12.0;  ///< metres between keyframe positions to be a candidate
   double min_path = 40.0;       ///< metres travelled between the two keyframes, at least
   /// Metres travelled after a lattice search that closed no loop before the next one: the same
