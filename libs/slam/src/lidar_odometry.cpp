@@ -130,7 +130,9 @@ void nearPoints(const PointCloud& points, const SweepMotion& motion, double rang
 }  // namespace
 
 LidarOdometry::LidarOdometry(const SlamParams& params)
-    : params_(params), aligner_(params.registration.solver) {}
+    : params_(params),
+      aligner_(params.registration.solver),
+      reference_(ReferenceModel::make(params)) {}
 
 OdometryStep LidarOdometry::process(double time, const PointCloud& points,
                                     const std::vector<float>& point_times) {
@@ -159,15 +161,13 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   Stopwatch deskew_watch;
   const std::vector<float>& times = sweepTimes(points, point_times, step);
   const bool deskew = !times.empty() && frames_ > 0;
-  const bool copy = deskew && params_.odometry.reference == Reference::kScanMap;
+  const bool copy = deskew && reference_->deskewsACopy();
   SweepMotion motion;
   const SweepMotion none;
   const PointCloud* cloud_ptr = &points;
   const SweepMotion* pending_ptr = &none;  // what the cloud still has to be moved by
   // Frame to frame, this scan becomes the next reference; otherwise it never is one.
-  const FrameUse use = params_.odometry.reference == Reference::kPreviousScan
-                           ? FrameUse::kCurrentAndReference
-                           : FrameUse::kCurrentOnly;
+  const FrameUse use = reference_->currentUse();
   // The current frame, deskewed with the body twist `v`; the deskewing's time (the motion
   // table, and the copy for the scan map) is added to deskew_ms.
   Vector6d deskew_velocity = Vector6d::Zero();  // what the current frame was deskewed with
@@ -190,21 +190,22 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
 
   Eigen::Isometry3d pose = predicted;
   Eigen::Vector3d velocity_gain = Eigen::Vector3d::Ones();
-  if (has_reference_ && !current_.empty()) {
+  if (reference_->ready() && !current_.empty()) {
     // The prediction carries the planar motion only: its height and tilt come from the ground
     // under it, so that x, y and yaw are registered with the cells at their true heights (a
     // height error shifts a registration towards a kerb on one side).
     predicted = onGround(predicted, step);
     const bool prediction_levelled = step.levelled;
-    const Eigen::Isometry3d to_reference = reference_pose_.inverse();
-    step.registration = aligner_.align(reference_, current_, to_reference * predicted);
-    pose = reference_pose_ * step.registration.pose;
+    const Eigen::Isometry3d to_reference = reference_->pose().inverse();
+    step.registration = aligner_.align(reference_->frame(), current_, to_reference * predicted);
+    pose = reference_->pose() * step.registration.pose;
     step.registered = true;
     step.times.registration.solve_ms += step.registration.times.solve_ms;
     if (dt > 0.0 && dt < 1.0 && disagrees(predicted, pose)) {
       bool as_predicted = true;  // the current frame is deskewed with the predicted motion
       // The prediction's fit, in the frame deskewed with the predicted motion.
-      const double prediction_cost = aligner_.cost(reference_, current_, to_reference * predicted);
+      const double prediction_cost =
+          aligner_.cost(reference_->frame(), current_, to_reference * predicted);
       if (deskew && !step.registration.degenerate) {
         // The scan was deskewed with the predicted motion, which its registration contradicts:
         // deskewed with the motion it measured, it is registered again (a robot that begins to
@@ -219,9 +220,9 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
         for (int k = 0; k < kRedeskewIterations; ++k) {
           build(carried(logSE3(last_pose_.inverse() * pose) / dt));
           rebuilt();
-          r = aligner_.align(reference_, current_, to_reference * pose);
+          r = aligner_.align(reference_->frame(), current_, to_reference * pose);
           step.times.registration.solve_ms += r.times.solve_ms;
-          const Eigen::Isometry3d moved = reference_pose_ * r.pose;
+          const Eigen::Isometry3d moved = reference_->pose() * r.pose;
           const bool settled =
               deviation(moved, pose) < kSameAnswer * params_.odometry.max_prior_deviation;
           pose = moved;
@@ -257,7 +258,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
       settled_updates_ = 0;
       // The scan map may be what went wrong (a bad scan inserted before the run): it restarts
       // from this scan rather than keep pulling the next ones back.
-      if (scan_map_) scan_map_->clear();
+      reference_->restartAfterRejections();
     }
     rejected_run_ = step.rejected ? rejected_run_ + 1 : 0;
     if (!step.rejected) {
@@ -350,21 +351,12 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
       first_times_ = times;
     }
   }
-  if (params_.odometry.reference == Reference::kPreviousScan && !current_.empty()) {
-    // Frame to frame, as in the paper: this scan is the next reference.
-    std::swap(reference_, current_);
-    reference_pose_ = pose;
-    has_reference_ = true;
-  }
   step.times.keyframe_ms = keyframe_watch.elapsedMs();
-  // Only scans whose pose was measured go into the map: a rejected one (a large moving object,
-  // a wrong basin) would smear what the next scans are registered against.
-  if (params_.odometry.reference == Reference::kScanMap && !current_.empty() &&
-      (first || (step.registered && !step.rejected))) {
-    Stopwatch map_watch;
-    updateScanMap(*cloud_ptr, pose);
-    step.times.local_map_ms = map_watch.elapsedMs();
-  }
+  // The reference learns of the scan: frame to frame it becomes the next reference, the scan
+  // map takes it if its pose was measured.
+  Stopwatch map_watch;
+  reference_->afterScan(current_, *cloud_ptr, pose, first || (step.registered && !step.rejected));
+  step.times.local_map_ms = map_watch.elapsedMs();
 
   // A scan whose registration could not observe everything may be the previous scan a search
   // needs next time (searchUnobserved()): its points, times and deskewing velocity are kept.
@@ -398,8 +390,8 @@ Eigen::Isometry3d LidarOdometry::decideByEvidence(const Eigen::Isometry3d& predi
   // begins to turn on the spot). Every answer is scored by its fit: the mean robust cost of the
   // same cells (AlignmentResult::cost). See evidenceSupports() for what is then believed.
   const OdometryParams& o = params_.odometry;
-  const Eigen::Isometry3d to_reference = reference_pose_.inverse();
-  const Eigen::Isometry3d first = reference_pose_ * step.registration.pose;
+  const Eigen::Isometry3d to_reference = reference_->pose().inverse();
+  const Eigen::Isometry3d first = reference_->pose() * step.registration.pose;
   std::vector<Eigen::Isometry3d> starts = {
       last_pose_, predicted * expSE3(-logSE3(predicted.inverse() * first))};
   if (frames_ >= 2 && last_time_ - before_last_time_ > 0.0 &&
@@ -420,10 +412,10 @@ Eigen::Isometry3d LidarOdometry::decideByEvidence(const Eigen::Isometry3d& predi
     }
     tried.push_back(start);
     const AlignmentResult r =
-        aligner_.align(reference_, current_, to_reference * onGround(start, step));
+        aligner_.align(reference_->frame(), current_, to_reference * onGround(start, step));
     ++step.starts;
     step.times.registration.solve_ms += r.times.solve_ms;
-    answers.push_back({r, reference_pose_ * r.pose});
+    answers.push_back({r, reference_->pose() * r.pose});
   }
   // The best fit among the well-conditioned answers (along what a degenerate one cannot observe
   // it kept its start, which is no evidence).
@@ -579,10 +571,10 @@ Eigen::Isometry3d LidarOdometry::searchUnobserved(const Eigen::Isometry3d& first
   if (!(best_cost < (1.0 - demanded) * start_cost)) return first;
   // Registered against the reference from there: what the scan observes is refined, the rest
   // stays where the search put it (the registration keeps its start along what it cannot see).
-  const Eigen::Isometry3d to_reference = reference_pose_.inverse();
+  const Eigen::Isometry3d to_reference = reference_->pose().inverse();
   const Eigen::Isometry3d found = last_pose_ * moved(best);
   const AlignmentResult r =
-      aligner_.align(reference_, current_, to_reference * onGround(found, step));
+      aligner_.align(reference_->frame(), current_, to_reference * onGround(found, step));
   step.times.registration.solve_ms += r.times.solve_ms;
   step.searched = true;
   step.search_motion = logSE3(moved(best)) / dt;
@@ -604,7 +596,7 @@ Eigen::Isometry3d LidarOdometry::searchUnobserved(const Eigen::Isometry3d& first
   k6.bottomRightCorner<3, 3>() = keep;
   motion_cov_ = k6 * motion_cov_ * k6.transpose();
   motion_cov_.bottomRightCorner<3, 3>() += searched / (dt * dt);
-  return reference_pose_ * r.pose;
+  return reference_->pose() * r.pose;
 }
 
 void LidarOdometry::predictMotionCovariance(double dt) {
@@ -736,7 +728,7 @@ Vector6d LidarOdometry::limitAcceleration(const Vector6d& measured, double dt) c
 }
 
 void LidarOdometry::keepPrediction(const Eigen::Isometry3d& predicted, AlignmentResult& r) const {
-  r.pose = reference_pose_.inverse() * predicted;
+  r.pose = reference_->pose().inverse() * predicted;
   r.degenerate = true;
   r.covariance = Matrix6d::Identity() * kUnobservedVariance;
 }
@@ -758,7 +750,7 @@ bool LidarOdometry::levelling() const {
 
 Eigen::Isometry3d LidarOdometry::onGround(const Eigen::Isometry3d& pose, OdometryStep& step) {
   step.levelled = false;
-  if (!levelling() || !has_reference_ || current_.empty()) return pose;
+  if (!levelling() || !reference_->ready() || current_.empty()) return pose;
   Stopwatch watch;
   const size_t k = groundLevel(current_);
   if (!ground_fitted_) {
@@ -766,11 +758,11 @@ Eigen::Isometry3d LidarOdometry::onGround(const Eigen::Isometry3d& pose, Odometr
     ground_fitted_ = true;
   }
   Eigen::Isometry3d out = pose;
-  if (ground_.found && k < reference_.levels().size()) {
-    const GroundAlignment g =
-        alignToGround(reference_.levels()[k].grid, ground_.cells, reference_pose_.inverse() * pose,
-                      params_.registration.solver.rotation_scale);
-    if (g.aligned) out = reference_pose_ * g.pose;
+  if (ground_.found && k < reference_->frame().levels().size()) {
+    const GroundAlignment g = alignToGround(reference_->frame().levels()[k].grid, ground_.cells,
+                                            reference_->pose().inverse() * pose,
+                                            params_.registration.solver.rotation_scale);
+    if (g.aligned) out = reference_->pose() * g.pose;
     step.levelled = g.aligned;
     step.ground_covariance = g.covariance;
   }
@@ -796,7 +788,7 @@ bool LidarOdometry::needsKeyframe(const Eigen::Isometry3d& pose, const Alignment
   // poor keyframe, so it waits for structure to return. Frame to frame and with the scan map
   // the reference moves on every scan anyway, and sparse fits, above the bound nearly always,
   // made a keyframe of nearly every scan: a graph node, a cloud and a loop search each.
-  if (o.reference != Reference::kKeyframe && o.reference != Reference::kKeyframeMap) return false;
+  if (!reference_->madeOfKeyframes()) return false;
   if (!(o.keyframe_max_rms > 0.0)) return false;
   if (r.degenerate || r.rms_height_error <= o.keyframe_max_rms) return false;
   // Optionally, poor compared with what a new keyframe gives here as well: a fit against one
@@ -811,18 +803,12 @@ bool LidarOdometry::needsKeyframe(const Eigen::Isometry3d& pose, const Alignment
 
 void LidarOdometry::addKeyframe(const Eigen::Isometry3d& pose, const PointCloud& points,
                                 const SweepMotion& motion, OdometryStep& step) {
-  const OdometryParams& o = params_.odometry;
   WeightedCloud fine;
   decimate(points, motion, fine, step.keyframe_cloud);
   step.new_keyframe = true;
   last_keyframe_pose_ = pose;
   awaiting_fresh_fit_ = true;
-  if (o.reference != Reference::kKeyframe && o.reference != Reference::kKeyframeMap) return;
-  recent_.push_back(RecentKeyframe{pose, std::move(fine)});
-  const size_t keep =
-      o.reference == Reference::kKeyframe ? 1 : static_cast<size_t>(o.local_map_keyframes);
-  while (recent_.size() > keep) recent_.pop_front();
-  rebuildLocalMap();
+  reference_->addKeyframe(pose, std::move(fine));
 }
 
 void LidarOdometry::decimate(const PointCloud& points, const SweepMotion& motion,
@@ -832,7 +818,7 @@ void LidarOdometry::decimate(const PointCloud& points, const SweepMotion& motion
   fine.clear();
   // Only the keyframe map (reference keyframe or keyframe_map) reads `fine`: frame to frame and
   // with the scan map (sparse sensors) it is not made at all.
-  if (o.reference == Reference::kKeyframe || o.reference == Reference::kKeyframeMap) {
+  if (reference_->madeOfKeyframes()) {
     if (o.keyframe_voxel > 0.0) {
       fine = voxelise(near_, o.keyframe_voxel);
       coarse = voxelise(fine, o.map_voxel);
@@ -851,64 +837,9 @@ void LidarOdometry::redoFirstKeyframe(OdometryStep& step) {
   const PointCloud first = dlo::deskew(first_points_, first_times_, velocity_);
   WeightedCloud fine;
   decimate(first, SweepMotion(), fine, step.first_keyframe_cloud);
-  const Reference reference = params_.odometry.reference;
-  if ((reference == Reference::kKeyframe || reference == Reference::kKeyframeMap) &&
-      !recent_.empty()) {
-    recent_.front().cloud = std::move(fine);
-    rebuildLocalMap();
-  }
-  if (reference == Reference::kScanMap) {
-    // The scan map starts again from the deskewed first scan (at 10 m/s the raw one is
-    // stretched by a metre); this scan joins it next.
-    LocalHeightMap& map = scanMap();
-    map.clear();
-    const DloParams& reg = params_.registration;
-    map.insert(first, last_pose_, reg.grid.min_z, reg.grid.max_z);
-    last_map_position_ = last_pose_.translation().head<2>();
-  }
+  reference_->redoFirstScan(first, last_pose_, std::move(fine));
   first_points_ = PointCloud();
   first_times_ = std::vector<float>();
-}
-
-void LidarOdometry::rebuildLocalMap() {
-  // All recent keyframes, expressed in the newest one's frame, in one grid: the mean height of
-  // a cell then averages every keyframe that saw it.
-  const DloParams& reg = params_.registration;
-  const Eigen::Isometry3d& anchor = recent_.back().pose;
-  std::vector<PosedCloud> parts;
-  for (const RecentKeyframe& k : recent_)
-    parts.push_back(PosedCloud{&k.cloud, anchor.inverse() * k.pose});
-  reference_.build(parts, reg.grid, reg.selection, reg.includeGround(), FrameUse::kReferenceOnly);
-  reference_pose_ = anchor;
-  has_reference_ = true;
-}
-
-LocalHeightMap& LidarOdometry::scanMap() {
-  if (!scan_map_) {
-    const HeightGridParams& g = params_.registration.grid;
-    scan_map_.emplace(g.resolution, g.cols, g.rows, params_.odometry.local_map_scans);
-  }
-  return *scan_map_;
-}
-
-void LidarOdometry::updateScanMap(const PointCloud& points, const Eigen::Isometry3d& pose) {
-  const DloParams& reg = params_.registration;
-  LocalHeightMap& map = scanMap();
-  // Scans taken close together add the same sensor-locked pattern again (see
-  // OdometryParams::local_map_spacing): such a scan only moves the window.
-  const Eigen::Vector2d here = pose.translation().head<2>();
-  if (map.scans() == 0 ||
-      (here - last_map_position_).norm() >= params_.odometry.local_map_spacing) {
-    map.insert(points, pose, reg.grid.min_z, reg.grid.max_z);
-    last_map_position_ = here;
-  }
-  // The reference grid is axis-aligned in the odometry frame, its cells the map's own: no
-  // resampling, the registration takes the heading into its initial guess.
-  reference_pose_ = map.windowPose(pose.translation());
-  reference_.build(
-      [&](std::uint32_t* count, float* sum) { map.fillWindow(reference_pose_, count, sum); },
-      reg.grid, reg.selection, reg.includeGround(), FrameUse::kReferenceOnly);
-  has_reference_ = true;
 }
 
 }  // namespace dlo

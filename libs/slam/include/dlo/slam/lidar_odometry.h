@@ -4,6 +4,7 @@
 #pragma once
 
 #include <deque>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "dlo/core/height_frame.h"
 #include "dlo/core/local_height_map.h"
 #include "dlo/core/weighted_cloud.h"
+#include "dlo/slam/reference_model.h"
 #include "dlo/slam/slam_params.h"
 
 namespace dlo {
@@ -113,11 +115,6 @@ class LidarOdometry {
   size_t frames() const { return frames_; }
 
  private:
-  struct RecentKeyframe {
-    Eigen::Isometry3d pose;  ///< odometry frame
-    WeightedCloud cloud;     ///< vehicle frame, keyframe_voxel
-  };
-
   /// A registered pose far enough from the prediction to need other evidence (see
   /// decideByEvidence()): its translation or its rotation (counted as its displacement at
   /// solver.rotation_scale) beyond odometry.max_prior_deviation, bounds that widen with each
@@ -184,13 +181,6 @@ class LidarOdometry {
   /// `points` as registered, moved by `motion` (the deskewing still pending, if it fits them).
   void addKeyframe(const Eigen::Isometry3d& pose, const PointCloud& points,
                    const SweepMotion& motion, OdometryStep& step);
-  void rebuildLocalMap();
-  /// reference = scan_map: adds a registered, deskewed scan to the local height map and re-extracts
-  /// the reference around its pose.
-  void updateScanMap(const PointCloud& points, const Eigen::Isometry3d& pose);
-  /// The scan map, made on first use: a dense sensor that never uses it does not pay for its
-  /// arrays (7.7 MB for the 400 x 400 grid).
-  LocalHeightMap& scanMap();
   void redoFirstKeyframe(OdometryStep& step);
   /// A keyframe's points within map_range, decimated for the local map (`fine`,
   /// keyframe_voxel, 0 = every point; left empty unless the keyframe map is the reference)
@@ -206,11 +196,8 @@ class LidarOdometry {
   PointCloud deskewed_;  ///< reference = scan_map: the scan deskewed, memory reused for every scan
   PointCloud near_;      ///< a keyframe's points within map_range, memory reused
   std::vector<float> estimated_times_;  ///< sweepTimes() of scans without times, memory reused
-  HeightFrame reference_;               ///< previous scan, last keyframe or local map
-  Eigen::Isometry3d reference_pose_ = Eigen::Isometry3d::Identity();  ///< odometry frame
-  std::deque<RecentKeyframe> recent_;
-  std::optional<LocalHeightMap> scan_map_;  ///< reference = scan_map, see scanMap()
-  Eigen::Vector2d last_map_position_ = Eigen::Vector2d::Zero();  ///< of the last scan it took
+  /// What scans are registered against (odometry.reference).
+  ReferenceModelPtr reference_;
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d last_keyframe_pose_ = Eigen::Isometry3d::Identity();
   /// RMS height errors of the first accepted, non-degenerate fits against the last few new
