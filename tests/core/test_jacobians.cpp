@@ -1,10 +1,7 @@
 // The analytic Jacobians of the height difference error against numerical differentiation.
 #include <gtest/gtest.h>
 
-#include <cstring>
-#include <limits>
 #include <random>
-#include <utility>
 
 #include "dlo/core/height_frame.h"
 #include "dlo/core/height_residual.h"
@@ -105,80 +102,6 @@ TEST(HeightResidualJacobian, RotationColumnsAreNotThePinholeOnes) {
   EXPECT_NEAR(J(0), 0.5, 1e-5);
   EXPECT_NEAR(J(1), 0.0, 1e-5);
   EXPECT_NEAR(J(2), -0.5 * 3.0, 1e-4);
-}
-
-/// A sampler over a rows x cols grid of 0.1 m with a bumpy surface and holes (cells without
-/// points), so that some samples lack a valid gradient.
-HeightSampler sampler(int rows, int cols, std::mt19937& rng) {
-  const GridGeometry geo = GridGeometry::centred(cols, rows, 0.1);
-  std::uniform_real_distribution<float> height(-1.0f, 3.0f);
-  std::bernoulli_distribution hole(0.04);
-  std::vector<float> h(geo.cellCount());
-  std::vector<std::uint32_t> n(geo.cellCount());
-  for (int i = 0; i < geo.cellCount(); ++i) {
-    h[i] = height(rng);
-    n[i] = hole(rng) ? 0u : 4u;
-  }
-  HeightGrid grid = HeightGrid::fromCells(geo, h, n, 3);
-  GradientField field;
-  computeGradients(grid, field);
-  return HeightSampler(geo, std::move(field));
-}
-
-TEST(HeightSampler, FourAtATimeIsSampleBitForBit) {
-#ifndef __SSE2__
-  GTEST_SKIP() << "sample4 needs SSE2";
-#else
-  std::mt19937 rng(7);
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  int valid = 0, invalid = 0;
-  // Grids too small to interpolate in (no lane can be inside), and ordinary ones.
-  for (const auto& size : {std::pair<int, int>{1, 1}, {1, 5}, {2, 2}, {3, 7}, {64, 48}}) {
-    const HeightSampler s = sampler(size.first, size.second, rng);
-    const GridGeometry& g = s.geometry();
-    // Points over the grid and a margin around it, plus NaN and the edges of the cell centres.
-    std::uniform_real_distribution<float> x(static_cast<float>(g.x_min) - 0.5f,
-                                            static_cast<float>(g.x_min + g.cols * 0.1) + 0.5f);
-    std::uniform_real_distribution<float> y(static_cast<float>(g.y_min) - 0.5f,
-                                            static_cast<float>(g.y_min + g.rows * 0.1) + 0.5f);
-    std::vector<float> xs, ys;
-    for (int k = 0; k < 4000; ++k) {
-      xs.push_back(x(rng));
-      ys.push_back(y(rng));
-    }
-    const float first = static_cast<float>(g.cellCentreX(0)),
-                last = static_cast<float>(g.cellCentreX(g.cols - 1));
-    for (float special : {nan, first, last, std::nextafter(last, 0.0f)}) {
-      xs.push_back(special);
-      ys.push_back(static_cast<float>(g.cellCentreY(g.rows / 2)));
-    }
-    while (xs.size() % 4 != 0) {
-      xs.push_back(first);
-      ys.push_back(nan);
-    }
-    for (size_t k = 0; k < xs.size(); k += 4) {
-      GradientCell out[4];
-      s.sample4(_mm_loadu_ps(&xs[k]), _mm_loadu_ps(&ys[k]), out);
-      for (int i = 0; i < 4; ++i) {
-        HeightSample expected;
-        const bool ok = s.sample(xs[k + i], ys[k + i], expected);
-        ASSERT_EQ(out[i].ok, ok ? 1.0f : 0.0f) << "at " << xs[k + i] << ", " << ys[k + i];
-        if (!ok) {
-          ++invalid;
-          continue;
-        }
-        ++valid;
-        // Bit for bit, not approximately: the linearisation must not change trajectories.
-        EXPECT_EQ(std::memcmp(&out[i].h, &expected.h, sizeof(float)), 0);
-        EXPECT_EQ(std::memcmp(&out[i].gx, &expected.gx, sizeof(float)), 0);
-        EXPECT_EQ(std::memcmp(&out[i].gy, &expected.gy, sizeof(float)), 0);
-      }
-    }
-  }
-  // Both outcomes were exercised.
-  EXPECT_GT(valid, 1000);
-  EXPECT_GT(invalid, 1000);
-#endif
 }
 
 TEST(RigidTransform, YawPitchRollRoundTripsThroughPoseFromXYZYPR) {

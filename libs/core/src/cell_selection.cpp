@@ -5,9 +5,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#ifdef __SSE2__
-#include <emmintrin.h>
-#endif
+#include "simd/candidate_mask_kernels.h"
 
 namespace dlo {
 
@@ -252,21 +250,9 @@ void selectHighGradientCells(const HeightGrid& grid, const HeightGrid* fill_sour
       // Candidates: measured interior cells at the threshold.
       int c = c0;
 #ifdef __SSE2__
-      const __m128 threshold = _mm_set1_ps(min_sq);
-      for (; c + 16 <= c1; c += 16) {
-        const __m128i v0 = _mm_castps_si128(_mm_cmpge_ps(_mm_loadu_ps(out + c), threshold));
-        const __m128i v1 = _mm_castps_si128(_mm_cmpge_ps(_mm_loadu_ps(out + c + 4), threshold));
-        const __m128i v2 = _mm_castps_si128(_mm_cmpge_ps(_mm_loadu_ps(out + c + 8), threshold));
-        const __m128i v3 = _mm_castps_si128(_mm_cmpge_ps(_mm_loadu_ps(out + c + 12), threshold));
-        // 32-bit all-ones / zeros, narrowed to bytes with signed saturation (-1 stays -1).
-        const __m128i above = _mm_packs_epi16(_mm_packs_epi32(v0, v1), _mm_packs_epi32(v2, v3));
-        const __m128i cells_measured =
-            _mm_loadu_si128(reinterpret_cast<const __m128i*>(row_measured + c));
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(mask + c),
-                         _mm_and_si128(above, cells_measured));
-      }
+      c = simd::candidateMaskSse2(out, row_measured, min_sq, c, c1, mask);
 #endif
-      for (; c < c1; ++c) mask[c] = row_measured[c] != 0 && out[c] >= min_sq ? 1 : 0;
+      simd::candidateMaskScalar(out, row_measured, min_sq, c, c1, mask);
     });
     return static_cast<const std::uint8_t*>(mask);
   };

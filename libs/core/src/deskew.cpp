@@ -3,9 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#ifdef __SSE2__
-#include <emmintrin.h>
-#endif
+#include "simd/deskew_kernels.h"
 
 namespace dlo {
 
@@ -18,33 +16,15 @@ RowMajorPose::RowMajorPose(const Eigen::Isometry3f& pose) {
 
 SweepMotion::SweepMotion(const std::vector<float>& times, const Vector6d& velocity, int bins) {
   if (times.empty() || bins < 1) return;
-  // The range of the times, four lanes at a time (a sweep has 10^5 of them). A NaN time is
-  // skipped: MINPS and MAXPS return their second operand when either is NaN.
+  // The range of the times (a sweep has 10^5 of them), vectorised; a NaN time is skipped.
   const float* t = times.data();
   const size_t n = times.size();
   float lo = t[0], hi = t[0];
   size_t k = 0;
 #ifdef __SSE2__
-  if (n >= 4) {
-    __m128 vlo = _mm_set1_ps(lo), vhi = _mm_set1_ps(hi);
-    for (; k + 4 <= n; k += 4) {
-      const __m128 v = _mm_loadu_ps(t + k);
-      vlo = _mm_min_ps(v, vlo);
-      vhi = _mm_max_ps(v, vhi);
-    }
-    float l[4], h[4];
-    _mm_storeu_ps(l, vlo);
-    _mm_storeu_ps(h, vhi);
-    for (int i = 0; i < 4; ++i) {
-      lo = std::min(lo, l[i]);
-      hi = std::max(hi, h[i]);
-    }
-  }
+  k = simd::widenTimeRangeSse2(t, k, n, lo, hi);
 #endif
-  for (; k < n; ++k) {
-    lo = std::min(lo, t[k]);  // (t < lo) ? t : lo, false for NaN
-    hi = std::max(hi, t[k]);
-  }
+  simd::widenTimeRangeScalar(t, k, n, lo, hi);
   const float span = std::max(hi - lo, 1e-9f);
   times_ = &times;
   lo_ = lo;
@@ -58,23 +38,13 @@ SweepMotion::SweepMotion(const std::vector<float>& times, const Vector6d& veloci
 }
 
 void SweepMotion::bins(const float* t, size_t n, int* out) const {
+  // The same bins as bin() (simd::timeBinsScalar() is its arithmetic), several at a time.
+  const simd::TimeBins quantiser{lo_, span_, bins_};
   size_t k = 0;
 #ifdef __SSE2__
-  // bin()'s operations, four times at a time; f lies in [0, bins] for the times the motion was
-  // tabulated over (a NaN time becomes 0, as the clamp in bin() makes it).
-  const __m128 lo = _mm_set1_ps(lo_), span = _mm_set1_ps(span_);
-  const __m128 top = _mm_set1_ps(static_cast<float>(bins_));
-  const __m128 zero = _mm_setzero_ps(), half = _mm_set1_ps(0.5f);
-  for (; k + 4 <= n; k += 4) {
-    __m128 f = _mm_mul_ps(_mm_div_ps(_mm_sub_ps(_mm_loadu_ps(t + k), lo), span), top);
-    f = _mm_min_ps(_mm_max_ps(f, zero), top);  // max(NaN, 0) is 0
-    const __m128i i = _mm_cvttps_epi32(f);
-    // Rounded half up: all ones (-1) where the fraction is at least 1/2.
-    const __m128i up = _mm_castps_si128(_mm_cmpge_ps(_mm_sub_ps(f, _mm_cvtepi32_ps(i)), half));
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + k), _mm_sub_epi32(i, up));
-  }
+  k = simd::timeBinsSse2(quantiser, t, k, n, out);
 #endif
-  for (; k < n; ++k) out[k] = bin(t[k]);
+  simd::timeBinsScalar(quantiser, t, k, n, out);
 }
 
 void SweepMotion::apply(size_t first, const Eigen::Vector3f* p, size_t n,

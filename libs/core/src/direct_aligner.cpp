@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "dlo/core/height_residual.h"
+#include "simd/sample_cells_kernels.h"
 
 namespace dlo {
 
@@ -35,56 +36,17 @@ struct NormalEquations {
   int n = 0;                 ///< inlier residuals
 };
 
-/// Where a selected cell lands in the reference and what the reference holds there.
-struct CellSample {
-  GradientCell s;     ///< interpolated h, gx, gy; ok = 1 where the reference has them
-  Eigen::Vector3f q;  ///< cellInReference()
-};
+using simd::CellSample;
 
-/// cellInReference() and HeightSampler::sample() of every cell, into out[0, cells.size()).
-/// With SSE2 four cells at a time, with the scalar code's operations in its order lane by lane
-/// (the same results bit for bit): the reads of the reference then overlap instead of waiting
-/// behind the branches of each cell's residual.
+/// cellInReference() and HeightSampler::sample() of every cell, into out[0, cells.size()):
+/// vectorised where it can be (simd/sample_cells_kernels.h), with the same results bit for bit.
 void sampleCells(const HeightSampler& sampler, const std::vector<SelectedCell>& cells,
                  const Eigen::Matrix3f& R, const Eigen::Vector3f& t, CellSample* out) {
-  const size_t n = cells.size();
   size_t k = 0;
 #ifdef __SSE2__
-  // q = R p + t, each row summed as Eigen's fixed-size product sums three terms:
-  // r0 x + (r1 y + r2 h), then + t.
-  __m128 r[3][3], tv[3];
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) r[i][j] = _mm_set1_ps(R(i, j));
-    tv[i] = _mm_set1_ps(t(i));
-  }
-  for (; k + 4 <= n; k += 4) {
-    const SelectedCell* c = cells.data() + k;
-    const __m128 x = _mm_setr_ps(c[0].x, c[1].x, c[2].x, c[3].x);
-    const __m128 y = _mm_setr_ps(c[0].y, c[1].y, c[2].y, c[3].y);
-    const __m128 h = _mm_setr_ps(c[0].h, c[1].h, c[2].h, c[3].h);
-    __m128 q[3];
-    for (int i = 0; i < 3; ++i) {
-      q[i] = _mm_add_ps(_mm_add_ps(_mm_mul_ps(r[i][0], x),
-                                   _mm_add_ps(_mm_mul_ps(r[i][1], y), _mm_mul_ps(r[i][2], h))),
-                        tv[i]);
-    }
-    GradientCell s[4];
-    sampler.sample4(q[0], q[1], s);
-    alignas(16) float qs[3][4];
-    for (int i = 0; i < 3; ++i) _mm_store_ps(qs[i], q[i]);
-    for (int j = 0; j < 4; ++j) {
-      out[k + j].s = s[j];
-      out[k + j].q = Eigen::Vector3f(qs[0][j], qs[1][j], qs[2][j]);
-    }
-  }
+  k = simd::sampleCellsSse2(sampler, cells.data(), k, cells.size(), R, t, out);
 #endif
-  for (; k < n; ++k) {
-    const Eigen::Vector3f q = cellInReference(cells[k], R, t);
-    HeightSample s;
-    const bool ok = sampler.sample(static_cast<double>(q.x()), static_cast<double>(q.y()), s);
-    out[k].s = GradientCell{s.h, s.gx, s.gy, ok ? 1.0f : 0.0f};
-    out[k].q = q;
-  }
+  simd::sampleCellsScalar(sampler, cells.data(), k, cells.size(), R, t, out);
 }
 
 /// Cells whose H and b are summed in float before being added to the double sums.

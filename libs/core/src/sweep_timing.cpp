@@ -3,9 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#ifdef __SSE2__
-#include <emmintrin.h>
-#endif
+#include "simd/sweep_timing_kernels.h"
 
 namespace dlo {
 
@@ -13,48 +11,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr float kTwoPiF = 6.28318530717958647692f;
-constexpr float kPiF = 3.14159265358979323846f;
-
-/// atan2(y, x) in [-pi, pi] within 2e-5 rad (1e-3 deg, a microsecond of a 10 Hz sweep), with no
-/// branch and no library call: a sweep has 100k points and std::atan2 cost more than the grid.
-/// Minimax polynomial for atan on [0, 1], then the octant.
-inline float fastAtan2(float y, float x) {
-  const float ax = std::fabs(x), ay = std::fabs(y);
-  const float hi = std::max(ax, ay), lo = std::min(ax, ay);
-  const float a = lo / std::max(hi, 1e-30f);  // 0 at the origin, NaN for NaN input
-  const float s = a * a;
-  float r =
-      ((((-0.0117212f * s + 0.05265332f) * s - 0.11643287f) * s + 0.19354346f) * s - 0.33262347f) *
-          s +
-      0.99997726f;
-  r *= a;
-  r = ay > ax ? 1.57079632679f - r : r;
-  r = x < 0.0f ? 3.14159265359f - r : r;
-  return y < 0.0f ? -r : r;
-}
-
-#ifdef __SSE2__
-/// fastAtan2 of four lanes, the same operations in the same order.
-inline __m128 fastAtan2(__m128 y, __m128 x) {
-  const __m128 sign = _mm_set1_ps(-0.0f), zero = _mm_setzero_ps();
-  const __m128 ax = _mm_andnot_ps(sign, x), ay = _mm_andnot_ps(sign, y);
-  const __m128 hi = _mm_max_ps(ax, ay), lo = _mm_min_ps(ax, ay);
-  const __m128 a = _mm_div_ps(lo, _mm_max_ps(hi, _mm_set1_ps(1e-30f)));
-  const __m128 s = _mm_mul_ps(a, a);
-  __m128 r = _mm_add_ps(_mm_mul_ps(_mm_set1_ps(-0.0117212f), s), _mm_set1_ps(0.05265332f));
-  r = _mm_sub_ps(_mm_mul_ps(r, s), _mm_set1_ps(0.11643287f));
-  r = _mm_add_ps(_mm_mul_ps(r, s), _mm_set1_ps(0.19354346f));
-  r = _mm_sub_ps(_mm_mul_ps(r, s), _mm_set1_ps(0.33262347f));
-  r = _mm_add_ps(_mm_mul_ps(r, s), _mm_set1_ps(0.99997726f));
-  r = _mm_mul_ps(r, a);
-  const auto select = [](__m128 mask, __m128 yes, __m128 no) {
-    return _mm_or_ps(_mm_and_ps(mask, yes), _mm_andnot_ps(mask, no));
-  };
-  r = select(_mm_cmpgt_ps(ay, ax), _mm_sub_ps(_mm_set1_ps(1.57079632679f), r), r);
-  r = select(_mm_cmplt_ps(x, zero), _mm_sub_ps(_mm_set1_ps(3.14159265359f), r), r);
-  return select(_mm_cmplt_ps(y, zero), _mm_sub_ps(zero, r), r);
-}
-#endif
 
 /// Angle in [-pi, pi].
 double wrapPi(double a) {
@@ -163,48 +119,12 @@ SweepTimingEstimate estimateSweepTimes(const PointCloud& points, const SweepTimi
   const bool ordered = e.from_order && !points.empty();
   const float per_point =
       ordered ? kTwoPiF / static_cast<float>(points.size()) : 0.0f;  // radians of sweep per point
+  const simd::SweepClock clock{start, dir, scale, offset, per_point, ordered};
   size_t i = 0;
 #ifdef __SSE2__
-  // Four points at a time, the scalar loop's operations lane by lane.
-  const __m128 vdir = _mm_set1_ps(dir), vstart = _mm_set1_ps(start);
-  const __m128 vscale = _mm_set1_ps(scale), voffset = _mm_set1_ps(offset);
-  const __m128 two_pi = _mm_set1_ps(kTwoPiF), zero = _mm_setzero_ps();
-  const __m128 vper_point = _mm_set1_ps(per_point), vpi = _mm_set1_ps(kPiF);
-  const __m128 vminus_pi = _mm_set1_ps(-kPiF);
-  for (; i + 4 <= points.size(); i += 4) {
-    const Eigen::Vector3f* p = points.data() + i;
-    const __m128 x = _mm_setr_ps(p[0].x(), p[1].x(), p[2].x(), p[3].x());
-    const __m128 y = _mm_setr_ps(p[0].y(), p[1].y(), p[2].y(), p[3].y());
-    __m128 a = _mm_mul_ps(vdir, _mm_sub_ps(fastAtan2(y, x), vstart));
-    a = _mm_add_ps(a, _mm_and_ps(_mm_cmplt_ps(a, zero), two_pi));
-    a = _mm_sub_ps(a, _mm_and_ps(_mm_cmpge_ps(a, two_pi), two_pi));
-    if (ordered) {
-      const float k = static_cast<float>(i);
-      const __m128 expected = _mm_mul_ps(_mm_setr_ps(k, k + 1.0f, k + 2.0f, k + 3.0f), vper_point);
-      const __m128 ahead = _mm_sub_ps(a, expected);
-      a = _mm_sub_ps(a, _mm_and_ps(_mm_cmpgt_ps(ahead, vpi), two_pi));
-      a = _mm_add_ps(a, _mm_and_ps(_mm_cmplt_ps(ahead, vminus_pi), two_pi));
-    }
-    const __m128 t = _mm_add_ps(_mm_mul_ps(a, vscale), voffset);
-    // t - t is 0 unless t is infinite or NaN (a non-finite point): those get the stamp's time.
-    _mm_storeu_ps(times.data() + i, _mm_and_ps(t, _mm_cmpeq_ps(_mm_sub_ps(t, t), zero)));
-  }
+  i = simd::sweepTimesSse2(clock, points.data(), i, points.size(), times.data());
 #endif
-  for (; i < points.size(); ++i) {
-    const Eigen::Vector3f& p = points[i];
-    // Angle travelled from the start in the spin direction, in [0, 2 pi): both angles lie in
-    // [-pi, pi], so one turn added or taken brings it into range.
-    float a = dir * (fastAtan2(p.y(), p.x()) - start);
-    a += a < 0.0f ? kTwoPiF : 0.0f;
-    a -= a >= kTwoPiF ? kTwoPiF : 0.0f;
-    if (ordered) {
-      const float ahead = a - static_cast<float>(i) * per_point;
-      a -= ahead > kPiF ? kTwoPiF : 0.0f;
-      a += ahead < -kPiF ? kTwoPiF : 0.0f;
-    }
-    const float t = a * scale + offset;
-    times[i] = t - t == 0.0f ? t : 0.0f;
-  }
+  simd::sweepTimesScalar(clock, points.data(), i, points.size(), times.data());
   return e;
 }
 

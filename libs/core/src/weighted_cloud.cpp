@@ -4,73 +4,20 @@
 #include <cmath>
 #include <cstdint>
 
-#ifdef __SSE2__
-#include <emmintrin.h>
-#endif
+#include "simd/voxel_keys_kernels.h"
 
 namespace dlo {
 
 namespace {
-
-/// 21 bits per axis around the origin: +-1 M voxels, i.e. +-100 km at 0.1 m.
-constexpr std::int32_t kAxisOffset = 1 << 20;
-constexpr std::int32_t kAxisMax = (1 << 21) - 1;
-
-/// A voxel coordinate: floor(v * inv_voxel) + kAxisOffset, clamped to [0, kAxisMax]. The
-/// product is clamped first, to a range where the floor is exact in 32 bits (beyond it the
-/// result is clamped anyway), as SSE's min and max do: a NaN becomes the upper bound (its
-/// point is skipped; the conversion just has to be defined).
-std::int32_t voxelAxis(float v, float inv_voxel) {
-  constexpr float kHigh = 2.0f * kAxisOffset, kLow = -kAxisOffset - 1.0f;
-  float t = v * inv_voxel;
-  t = t < kHigh ? t : kHigh;
-  t = t > kLow ? t : kLow;
-  const std::int32_t i = static_cast<std::int32_t>(std::floor(t)) + kAxisOffset;
-  return std::clamp(i, 0, kAxisMax);
-}
-
-std::uint64_t voxelKey(std::int32_t x, std::int32_t y, std::int32_t z) {
-  return (static_cast<std::uint64_t>(x) << 42) | (static_cast<std::uint64_t>(y) << 21) |
-         static_cast<std::uint64_t>(z);
-}
-
-#ifdef __SSE2__
-/// voxelAxis() of four values, operation for operation. SSE2 has no floor: truncation, minus
-/// one where it rounded up (negative non-integers). std::floor is a library call on plain
-/// x86-64, and the keys were the larger part of voxelisation.
-__m128i voxelAxis4(__m128 v, __m128 inv_voxel) {
-  const __m128 t = _mm_max_ps(_mm_min_ps(_mm_mul_ps(v, inv_voxel), _mm_set1_ps(2.0f * kAxisOffset)),
-                              _mm_set1_ps(-kAxisOffset - 1.0f));
-  const __m128i trunc = _mm_cvttps_epi32(t);
-  // The comparison's all-ones lanes are -1.
-  const __m128i floor =
-      _mm_add_epi32(trunc, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(trunc), t)));
-  const __m128i i = _mm_add_epi32(floor, _mm_set1_epi32(kAxisOffset));
-  const __m128i hi = _mm_set1_epi32(kAxisMax);
-  const __m128i non_negative = _mm_andnot_si128(_mm_cmplt_epi32(i, _mm_setzero_si128()), i);
-  const __m128i above = _mm_cmpgt_epi32(non_negative, hi);
-  return _mm_or_si128(_mm_andnot_si128(above, non_negative), _mm_and_si128(above, hi));
-}
-#endif
 
 /// The voxel keys of points (x[k], y[k], z[k]), k < n.
 void voxelKeys(const float* x, const float* y, const float* z, size_t n, float inv_voxel,
                std::uint64_t* keys) {
   size_t k = 0;
 #ifdef __SSE2__
-  const __m128 inv = _mm_set1_ps(inv_voxel);
-  alignas(16) std::int32_t ix[4], iy[4], iz[4];
-  for (; k + 4 <= n; k += 4) {
-    _mm_store_si128(reinterpret_cast<__m128i*>(ix), voxelAxis4(_mm_loadu_ps(x + k), inv));
-    _mm_store_si128(reinterpret_cast<__m128i*>(iy), voxelAxis4(_mm_loadu_ps(y + k), inv));
-    _mm_store_si128(reinterpret_cast<__m128i*>(iz), voxelAxis4(_mm_loadu_ps(z + k), inv));
-    for (int j = 0; j < 4; ++j) keys[k + j] = voxelKey(ix[j], iy[j], iz[j]);
-  }
+  k = simd::voxelKeysSse2(x, y, z, k, n, inv_voxel, keys);
 #endif
-  for (; k < n; ++k) {
-    keys[k] = voxelKey(voxelAxis(x[k], inv_voxel), voxelAxis(y[k], inv_voxel),
-                       voxelAxis(z[k], inv_voxel));
-  }
+  simd::voxelKeysScalar(x, y, z, k, n, inv_voxel, keys);
 }
 
 }  // namespace
