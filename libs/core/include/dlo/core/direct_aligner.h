@@ -21,9 +21,9 @@ struct SolverParams {
   /// Convergence of the coarse levels: a translation update below this fraction of the level's
   /// cell size (a rotation update below it over rotation_scale); 0 = the min_step criteria
   /// scaled with the cell, as on the finest level. A coarse level only has to bring the next one
-  /// into its basin. Measured (README): 0.01 cuts a third of the iterations of an HDL-64 scan
-  /// (solve 0.31 -> 0.24 ms) at the same accuracy over 8 simulated drives, but made 3 of 5
-  /// simulated VLP-16 drives drift more: the sparse sensor profile sets 0.
+  /// into its basin, so stopping early saves iterations on dense scans; on sparse scans the
+  /// coarse levels carry more of the estimate, and the sparse sensor profile sets 0
+  /// (measurements: docs/benchmarks.md).
   double coarse_step = 0.01;
   int min_cells = 30;  ///< fewer usable cells than this: degenerate
   /// eig_min/eig_max of the scaled Hessian below this, on the finest level or the next coarser

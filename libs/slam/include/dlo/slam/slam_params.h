@@ -32,8 +32,8 @@ struct OdometryParams {
   bool levelling = true;
   int local_map_keyframes = 4;  ///< keyframes fused into the local map (reference = keyframe_map)
   /// Registered scans in the local height map (reference = scan_map). Fewer scans let a wrongly
-  /// placed one leave the map sooner: over 20 simulated HDL-32 drives 15 ended 2 above 1 m ATE
-  /// against 5 with 30 (median 0.40 against 0.49 m), over 40 VLP-16 drives 12 against 18.
+  /// placed one leave the map sooner; enough of them cover the ground between a sparse
+  /// sensor's rings (measurements: docs/benchmarks.md).
   int local_map_scans = 15;
   /// Metres: a registered scan joins the scan map (reference = scan_map) only this far from the
   /// last scan that joined it. Each sparse scan's pattern of rings and holes travels with the
