@@ -8,6 +8,8 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake ccache pkg-config
   libmrpt-dev libeigen3-dev libopencv-dev zlib1g-dev nlohmann-json3-dev
+  # the apps' command lines (header-only, needed to build only: not in the .deb's Depends)
+  libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-format
   # run_demo.sh and scripts/eval_matrix.py read report.json and metrics.json with Python's json

@@ -10,11 +10,12 @@
 #include <iostream>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "dlo/app/app_main.h"
-#include "dlo/app/command_line.h"
+#include "dlo/app/program_options.h"
 #include "dlo/bench/bench_table.h"
 #include "dlo/bench/method_registry.h"
 #include "dlo/bench/method_run.h"
@@ -33,13 +34,12 @@ namespace {
 using dlo::UsageError;
 namespace fs = std::filesystem;
 
-constexpr const char* kUsage =
-    R"(Usage: dlo-bench --input IN.rawlog [--gt GT.tum] --out DIR [--methods M1,M2,...]
-                 [--peer NAME=COMMAND ...] [--max-frames N] [--max-frames-slow N]
-                 [--min-range M] [--max-range M] [--repeat N] [--quiet] [--help]
+constexpr const char* kDescription =
+    "Runs every method on the same scans of IN, each in its own forked process (so that its peak "
+    "memory is its own), and writes a table, trajectories and a figure into DIR (created if "
+    "needed), each file atomically.";
 
-Runs every method on the same scans of IN, each in its own forked process (so that its peak
-memory is its own), and writes into DIR (created if needed), each file atomically:
+constexpr const char* kFooter = R"(Outputs in DIR:
   table.md, table.csv      per method: preprocessing, frames, ms/frame (median, p95) of the
                            processing alone (points in the vehicle frame to pose; reading the
                            rawlog is not timed), frames/s, ATE RMSE (SE(3) Umeyama), KITTI
@@ -72,25 +72,9 @@ folder is removed at the end. Example, with a KISS-ICP driver that you built fro
 --kiss-icp is that peer with dlo-kiss-icp, when this build has it (configured with
 -DDLO_KISS_ICP_SOURCE=...; scripts/build_kiss_icp_peer.sh).
 
-Options:
-  --methods LIST       comma-separated method names.
-  --peer NAME=COMMAND  an external odometry program (see Peers above); repeatable. NAME holds
-                       letters, digits and . _ + -; COMMAND must contain {out}.
-  --kiss-icp           KISS-ICP as a peer named KISS-ICP, through this build's dlo-kiss-icp.
-  --max-frames N       at most N scans per method.
-  --max-frames-slow N  at most N scans for the slow methods (icp, ndt, gicp); default 100.
-  --min-range M        drop points closer than M metres to the sensor (default 2.0).
-  --max-range M        drop points farther than M metres (default 120).
-  --repeat N           run every method N times (default 1), in N rounds that each run every
-                       method once, so that all of them are timed under the machine's load of
-                       the whole benchmark; a scan's time is the median of its N times. On a
-                       shared machine this steadies the ratios between methods.
-  --quiet              no progress.
-  --help               print this text.
-
 Exit status: 0 on success, 1 for a bad input file or a method or peer that failed (the table is
-still written), 2 for a command-line error; errors are one line on stderr starting with "dlo-bench: ".
-)";
+still written), 2 for a command-line error; errors are one line on stderr starting with
+"dlo-bench: ".)";
 
 struct Arguments {
   std::string input, gt, out;
@@ -101,17 +85,22 @@ struct Arguments {
   long repeat = 1;
   double min_range = 2.0;
   double max_range = 120.0;
-  bool quiet = false, help = false;
+  bool quiet = false;
 };
 
-/// The value of `option` as a whole number (of `what`) >= 1, or `fallback` when absent.
-long toCount(const dlo::CommandLine& cl, const std::string& option, long fallback,
+/// `text`, the value of `option`, as a whole number (of `what`) >= 1.
+long toCount(const std::string& option, const std::string& text,
              const std::string& what = "frames") {
-  const std::optional<std::string> text = cl.value(option);
-  if (!text) return fallback;
-  const double v = dlo::CommandLine::toNumber(option, *text);
+  double v = 0.0;
+  try {
+    size_t used = 0;
+    v = std::stod(text, &used);
+    if (used != text.size()) throw std::invalid_argument(text);
+  } catch (const std::exception&) {
+    throw UsageError{option + " expects a number, got '" + text + "'."};
+  }
   if (!(v >= 1.0) || v != std::floor(v)) {
-    throw UsageError{option + " expects a whole number of " + what + " >= 1, got '" + *text + "'."};
+    throw UsageError{option + " expects a whole number of " + what + " >= 1, got '" + text + "'."};
   }
   return static_cast<long>(v);
 }
@@ -144,36 +133,57 @@ std::string kissIcpPeer() {
 #endif
 }
 
-Arguments parseArguments(int argc, char** argv) {
-  const dlo::CommandLine cl(
-      argc, argv,
-      {"--input", "--gt", "--out", "--methods", "--max-frames", "--max-frames-slow", "--min-range",
-       "--max-range", "--repeat", "--peer"},
-      {"--quiet", "--kiss-icp"});
+/// \return nullopt when --help was printed.
+std::optional<Arguments> parseArguments(int argc, char** argv) {
   Arguments a;
-  a.help = cl.help();
-  if (a.help) return a;
-  cl.rejectPositional();
-  a.quiet = cl.flag("--quiet");
-  a.max_frames = toCount(cl, "--max-frames", a.max_frames);
-  a.max_frames_slow = toCount(cl, "--max-frames-slow", a.max_frames_slow);
-  a.repeat = toCount(cl, "--repeat", a.repeat, "runs");
-  a.min_range = cl.number("--min-range", a.min_range);
-  a.max_range = cl.number("--max-range", a.max_range);
-  a.input = cl.required("--input");
-  a.gt = cl.text("--gt");
-  a.out = cl.required("--out");
+  // The counts are read here, not by the parser, for their messages ("of runs >= 1").
+  std::string methods, max_frames, max_frames_slow, repeat;
+  std::vector<std::string> peers;
+  bool kiss_icp = false;
+  dlo::ProgramOptions cl("dlo-bench", kDescription);
+  cl.text("--input", a.input, "the scans: an MRPT rawlog").valueName("IN.rawlog").required();
+  cl.text("--gt", a.gt, "ground truth (TUM) for the accuracy columns").valueName("GT.tum");
+  cl.text("--out", a.out, "output folder").valueName("DIR").required();
+  cl.text("--methods", methods, "comma-separated method names (default: all; see Methods)")
+      .valueName("LIST");
+  cl.repeatable("--peer", peers,
+                "an external odometry program (see Peers below); repeatable. NAME holds letters, "
+                "digits and . _ + -; COMMAND must contain {out}")
+      .valueName("NAME=COMMAND");
+  cl.flag("--kiss-icp", kiss_icp,
+          "KISS-ICP as a peer named KISS-ICP, through this build's dlo-kiss-icp");
+  cl.text("--max-frames", max_frames, "at most N scans per method").valueName("N");
+  cl.text("--max-frames-slow", max_frames_slow,
+          "at most N scans for the slow methods (icp, ndt, gicp)")
+      .valueName("N")
+      .defaultText("100");
+  cl.number("--min-range", a.min_range, "drop points closer than M metres to the sensor")
+      .valueName("M");
+  cl.number("--max-range", a.max_range, "drop points farther than M metres").valueName("M");
+  cl.text("--repeat", repeat,
+          "run every method N times, in N rounds that each run every method once, so that all "
+          "of them are timed under the machine's load of the whole benchmark; a scan's time is "
+          "the median of its N times. On a shared machine this steadies the ratios between "
+          "methods")
+      .valueName("N")
+      .defaultText("1");
+  cl.flag("--quiet", a.quiet, "no progress");
+  cl.footer(kFooter);
+  if (!cl.parse(argc, argv)) return std::nullopt;
+  if (cl.given("--max-frames")) a.max_frames = toCount("--max-frames", max_frames);
+  if (cl.given("--max-frames-slow")) {
+    a.max_frames_slow = toCount("--max-frames-slow", max_frames_slow);
+  }
+  if (cl.given("--repeat")) a.repeat = toCount("--repeat", repeat, "runs");
   if (!(a.min_range >= 0.0 && a.max_range > a.min_range)) {
     throw UsageError{"--min-range and --max-range must satisfy 0 <= min < max."};
   }
-  const std::string methods = cl.text("--methods");
   if (methods.empty()) {
     for (const auto& m : dlo::bench::availableMethods()) a.methods.push_back(&m);
   } else {
     a.methods = parseMethods(methods);
   }
-  std::vector<std::string> peers = cl.values("--peer");
-  if (cl.flag("--kiss-icp")) peers.push_back(kissIcpPeer());
+  if (kiss_icp) peers.push_back(kissIcpPeer());
   for (const std::string& text : peers) {
     try {
       a.peers.push_back(dlo::bench::parsePeerSpec(text));
@@ -452,11 +462,7 @@ int run(const Arguments& args, const std::string& command) {
 
 int main(int argc, char** argv) {
   return dlo::runApp("dlo-bench", [&] {
-    const Arguments args = parseArguments(argc, argv);
-    if (args.help) {
-      std::cout << kUsage;
-      return 0;
-    }
-    return run(args, commandLine(argc, argv));
+    const std::optional<Arguments> args = parseArguments(argc, argv);
+    return args ? run(*args, commandLine(argc, argv)) : 0;
   });
 }

@@ -5,11 +5,12 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "dlo/app/app_main.h"
-#include "dlo/app/command_line.h"
+#include "dlo/app/program_options.h"
 #include "dlo/eval/estimate_evaluation.h"
 #include "dlo/eval/evaluation_figures.h"
 #include "dlo/eval/evaluation_report.h"
@@ -20,19 +21,17 @@
 
 namespace {
 
-constexpr const char* kUsage =
-    R"(Usage: dlo-eval --gt GT --est EST [--est EST2 ...] [--label NAME ...] --out DIR
-                [--alignment umeyama|first] [--max-dt S] [--gt-times FILE] [--help]
+constexpr const char* kDescription =
+    "Compares each estimated trajectory EST with the ground truth GT, writes metrics and figures "
+    "into DIR (created if needed), each file atomically, and prints a table of the metrics.";
 
-Compares each estimated trajectory EST with the ground truth GT and writes, into DIR (created
-if needed), each file atomically:
+constexpr const char* kFooter = R"(Outputs in DIR:
   metrics.json         per estimate: matched poses, ATE (rmse, mean, median, max), RPE over 1
                        and 10 frames (translation m, rotation deg), KITTI drift (% and
                        deg/100 m over segments of 100..800 m) with the lengths used
   trajectories.png     top view (x-y) of the ground truth and every aligned estimate
   position_error.png   position error after alignment per ground-truth frame
   drift.png            KITTI translational drift per segment length
-and prints a table of the metrics.
 
 Files are TUM ("t x y z qx qy qz qw") or KITTI (12 numbers: 3x4 [R|t]), detected per file.
 Pairing of estimate and ground-truth poses:
@@ -40,26 +39,14 @@ Pairing of estimate and ground-truth poses:
                    ground truth then needs --gt-times (its sequence's times.txt).
   KITTI estimate   by index: estimate pose i with ground-truth pose i (KITTI files carry no
                    timestamps); it may have fewer poses than the ground truth, not more.
-
-Options:
-  --gt FILE            ground-truth trajectory.
-  --est FILE           estimated trajectory; repeat to compare several.
-  --label NAME         name of the matching --est in tables and legends (default: the file
-                       name without extension); give none or one per --est.
-  --out DIR            output folder.
-  --alignment A        umeyama (default): SE(3) (rotation + translation, no scale) minimising
-                       the position error; first: the estimate's first pose is put on the
-                       ground truth's. Used for the ATE and the figures; RPE and KITTI drift
-                       are independent of it.
-  --max-dt S           largest timestamp difference of a pair, seconds (default 0.02).
-  --gt-times FILE      one timestamp per line for a KITTI ground truth.
-  --help               print this text.
+--alignment umeyama: SE(3) (rotation + translation, no scale) minimising the position error;
+first: the estimate's first pose is put on the ground truth's. Used for the ATE and the
+figures; RPE and KITTI drift are independent of it.
 
 KITTI drift: segments start every 10 frames (as in the devkit); lengths longer than the ground
 truth path are skipped; a path shorter than 100 m uses 10%, 20%, ..., 80% of its length.
 Exit status: 0 on success, 1 for a bad input file (missing, malformed, fewer than 3 matched
-poses), 2 for a command-line error; errors are one line on stderr starting with "dlo-eval: ".
-)";
+poses), 2 for a command-line error; errors are one line on stderr starting with "dlo-eval: ".)";
 
 using dlo::InputError;
 using dlo::UsageError;
@@ -70,35 +57,35 @@ struct Arguments {
   std::vector<std::string> estimates, labels;
   metrics::Alignment alignment = metrics::Alignment::kUmeyama;
   double max_dt = 0.02;
-  bool help = false;
 };
 
-Arguments parseArguments(int argc, char** argv) {
-  const dlo::CommandLine cl(
-      argc, argv, {"--gt", "--est", "--label", "--out", "--alignment", "--max-dt", "--gt-times"},
-      {});
+/// \return nullopt when --help was printed.
+std::optional<Arguments> parseArguments(int argc, char** argv) {
   Arguments a;
-  a.help = cl.help();
-  if (a.help) return a;
-  cl.rejectPositional();
-  a.gt = cl.text("--gt");
-  a.estimates = cl.values("--est");
-  a.labels = cl.values("--label");
-  a.out = cl.text("--out");
-  a.gt_times = cl.text("--gt-times");
-  a.max_dt = cl.number("--max-dt", a.max_dt);
-  if (const auto alignment = cl.value("--alignment")) {
-    if (*alignment == "umeyama") {
-      a.alignment = metrics::Alignment::kUmeyama;
-    } else if (*alignment == "first") {
-      a.alignment = metrics::Alignment::kFirstPose;
-    } else {
-      throw UsageError{"--alignment expects umeyama or first, got '" + *alignment + "'."};
-    }
+  std::string alignment = "umeyama";
+  dlo::ProgramOptions cl("dlo-eval", kDescription);
+  cl.text("--gt", a.gt, "ground-truth trajectory").valueName("FILE").required();
+  cl.repeatable("--est", a.estimates, "estimated trajectory; repeat to compare several")
+      .valueName("FILE")
+      .required();
+  cl.repeatable("--label", a.labels,
+                "name of the matching --est in tables and legends (default: the file name "
+                "without extension); give none or one per --est")
+      .valueName("NAME");
+  cl.text("--out", a.out, "output folder").valueName("DIR").required();
+  cl.text("--alignment", alignment, "umeyama or first (see below)").valueName("A");
+  cl.number("--max-dt", a.max_dt, "largest timestamp difference of a pair, seconds").valueName("S");
+  cl.text("--gt-times", a.gt_times, "one timestamp per line for a KITTI ground truth")
+      .valueName("FILE");
+  cl.footer(kFooter);
+  if (!cl.parse(argc, argv)) return std::nullopt;
+  if (alignment == "umeyama") {
+    a.alignment = metrics::Alignment::kUmeyama;
+  } else if (alignment == "first") {
+    a.alignment = metrics::Alignment::kFirstPose;
+  } else {
+    throw UsageError{"--alignment expects umeyama or first, got '" + alignment + "'."};
   }
-  cl.required("--gt");
-  if (a.estimates.empty()) throw UsageError{"at least one --est is required (see --help)."};
-  cl.required("--out");
   if (!a.labels.empty() && a.labels.size() != a.estimates.size()) {
     throw UsageError{std::to_string(a.labels.size()) + " --label given for " +
                      std::to_string(a.estimates.size()) +
@@ -221,11 +208,7 @@ int run(const Arguments& args) {
 
 int main(int argc, char** argv) {
   return dlo::runApp("dlo-eval", [&] {
-    const Arguments args = parseArguments(argc, argv);
-    if (args.help) {
-      std::cout << kUsage;
-      return 0;
-    }
-    return run(args);
+    const std::optional<Arguments> args = parseArguments(argc, argv);
+    return args ? run(*args) : 0;
   });
 }

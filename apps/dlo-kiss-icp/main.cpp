@@ -6,11 +6,12 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "dlo/app/app_main.h"
-#include "dlo/app/command_line.h"
+#include "dlo/app/program_options.h"
 #include "dlo/app/progress_bar.h"
 #include "dlo/files/error.h"
 #include "dlo/metrics/trajectory_io.h"
@@ -20,31 +21,20 @@
 
 namespace {
 
-constexpr const char* kUsage =
-    R"(Usage: dlo-kiss-icp IN OUT_POSES [--max-range M] [--min-range M] [--voxel V]
-                    [--max-frames N] [--tum] [--quiet] [--help]
+constexpr const char* kDescription =
+    "Runs KISS-ICP's odometry (its C++ pipeline, kiss_icp::pipeline::KissICP, from the source "
+    "tree this build was configured with: cmake -DDLO_KISS_ICP_SOURCE=...) over the scans of IN "
+    "and writes one pose per scan to OUT_POSES: KITTI format (a row-major 3x4 matrix per line, "
+    "the first scan's frame), or TUM with --tum. IN is a KITTI folder (velodyne/*.bin[.gz], "
+    "times.txt) or an MRPT rawlog, read as dlo-slam reads them. One thread; no deskewing (scans "
+    "without per-point times, as most KITTI-format data).";
 
-Runs KISS-ICP's odometry (its C++ pipeline, kiss_icp::pipeline::KissICP, from the source tree
-this build was configured with: cmake -DDLO_KISS_ICP_SOURCE=...) over the scans of IN and
-writes one pose per scan to OUT_POSES: KITTI format (a row-major 3x4 matrix per line, the first
-scan's frame), or TUM with --tum. IN is a KITTI folder (velodyne/*.bin[.gz], times.txt) or an
-MRPT rawlog, read as dlo-slam reads them. One thread; no deskewing (scans without per-point
-times, as most KITTI-format data). Use it as a peer of dlo-bench or scripts/eval_matrix.py:
+constexpr const char* kFooter =
+    R"(Use it as a peer of dlo-bench or scripts/eval_matrix.py:
   --peer "KISS-ICP=build/apps/dlo-kiss-icp/dlo-kiss-icp {kitti} {out}"
 
-Options:
-  --max-range M    KISS-ICP's max_range, metres (default 100, its default).
-  --min-range M    KISS-ICP's min_range, metres (default 0, its default).
-  --voxel V        KISS-ICP's voxel_size, metres (default: max range / 100, as its own
-                   pipeline chooses).
-  --max-frames N   only the first N scans.
-  --tum            write TUM ("t x y z qx qy qz qw") instead of KITTI poses.
-  --quiet          no progress and no summary.
-  --help           print this text.
-
 Exit status: 0 on success, 1 for a bad input (a file that breaks part way: the poses of the
-scans before it are written), 2 for a command-line error.
-)";
+scans before it are written), 2 for a command-line error.)";
 
 using dlo::UsageError;
 
@@ -52,34 +42,37 @@ struct Arguments {
   std::string in, out;
   double max_range = 100.0, min_range = 0.0, voxel = -1.0;
   long max_frames = -1;
-  bool tum = false, quiet = false, help = false;
+  bool tum = false, quiet = false;
 };
 
-Arguments parseArguments(int argc, char** argv) {
-  const dlo::CommandLine cl(argc, argv, {"--max-range", "--min-range", "--voxel", "--max-frames"},
-                            {"--tum", "--quiet"});
+/// \return nullopt when --help was printed.
+std::optional<Arguments> parseArguments(int argc, char** argv) {
   Arguments a;
-  a.help = cl.help();
-  if (a.help) return a;
-  a.max_range = cl.number("--max-range", a.max_range);
-  a.min_range = cl.number("--min-range", a.min_range);
+  dlo::ProgramOptions cl("dlo-kiss-icp", kDescription);
+  cl.positional("IN", a.in, "a KITTI folder or an MRPT rawlog").required();
+  cl.positional("OUT_POSES", a.out, "the poses to write").required();
+  cl.number("--max-range", a.max_range, "KISS-ICP's max_range, metres (its default)")
+      .valueName("M");
+  cl.number("--min-range", a.min_range, "KISS-ICP's min_range, metres (its default)")
+      .valueName("M");
+  cl.number("--voxel", a.voxel,
+            "KISS-ICP's voxel_size, metres (default: max range / 100, as its own pipeline "
+            "chooses)")
+      .valueName("V")
+      .defaultText("MAX_RANGE/100");
+  cl.wholeNumber("--max-frames", a.max_frames, "only the first N scans (-1: all)").valueName("N");
+  cl.flag("--tum", a.tum, "write TUM (\"t x y z qx qy qz qw\") instead of KITTI poses");
+  cl.flag("--quiet", a.quiet, "no progress and no summary");
+  cl.footer(kFooter);
+  if (!cl.parse(argc, argv)) return std::nullopt;
   if (!(a.min_range >= 0.0 && a.max_range > a.min_range)) {
     throw UsageError{"--min-range and --max-range must satisfy 0 <= min < max."};
   }
-  a.voxel = cl.number("--voxel", a.max_range / 100.0);
+  if (!cl.given("--voxel")) a.voxel = a.max_range / 100.0;
   if (!(a.voxel > 0.0)) throw UsageError{"--voxel expects a positive size in metres."};
-  a.max_frames = cl.integer("--max-frames", a.max_frames);
-  if (cl.value("--max-frames") && a.max_frames < 1) {
+  if (cl.given("--max-frames") && a.max_frames < 1) {
     throw UsageError{"--max-frames expects a whole number of scans >= 1."};
   }
-  a.tum = cl.flag("--tum");
-  a.quiet = cl.flag("--quiet");
-  if (cl.positional().size() != 2) {
-    throw UsageError{"expected IN and OUT_POSES, got " + std::to_string(cl.positional().size()) +
-                     " arguments (see --help)."};
-  }
-  a.in = cl.positional()[0];
-  a.out = cl.positional()[1];
   return a;
 }
 
@@ -151,11 +144,7 @@ int run(const Arguments& args) {
 
 int main(int argc, char** argv) {
   return dlo::runApp("dlo-kiss-icp", [&] {
-    const Arguments args = parseArguments(argc, argv);
-    if (args.help) {
-      std::cout << kUsage;
-      return 0;
-    }
-    return run(args);
+    const std::optional<Arguments> args = parseArguments(argc, argv);
+    return args ? run(*args) : 0;
   });
 }

@@ -1,23 +1,23 @@
 // dlo-kitti2rawlog: converts a KITTI odometry sequence folder into an MRPT rawlog (and TUM
 // ground truth).
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "dlo/app/app_main.h"
-#include "dlo/app/command_line.h"
+#include "dlo/app/program_options.h"
 #include "dlo/app/progress_bar.h"
 #include "dlo/files/error.h"
 #include "dlo/mrpt/kitti_conversion.h"
 
 namespace {
 
-constexpr const char* kUsage =
-    R"(Usage: dlo-kitti2rawlog SEQ_DIR OUT.rawlog [--gt OUT_GT.tum] [--quiet] [--help]
+constexpr const char* kDescription =
+    "Converts a KITTI odometry sequence folder into an MRPT rawlog, one scan in memory at a "
+    "time.";
 
-Converts a KITTI odometry sequence folder into an MRPT rawlog, one scan in memory at a time.
-
-SEQ_DIR holds:
+constexpr const char* kFooter = R"(SEQ_DIR holds:
   velodyne/*.bin or *.bin.gz   the scans (float32 x, y, z, reflectance), taken in name order;
   times.txt                    optional, one time in seconds per scan (missing: 10 Hz);
   poses.txt                    optional, one row-major 3x4 pose per scan (needed for --gt);
@@ -30,15 +30,9 @@ CObservationPointCloud per scan: CPointsMapXYZI with reflectance as intensity, s
 "VELODYNE", identity sensorPose (KITTI points are in the LiDAR frame). Written to OUT.tmp and
 renamed at the end, so an existing OUT is never half-overwritten.
 
-Options:
-  --gt FILE   also write the ground truth, LiDAR frame, as TUM lines "t x y z qx qy qz qw".
-  --quiet     no progress bar and no summary.
-  --help      prints this text.
-
 Exit status: 0 on success, 1 for a bad input (the scans converted before the bad one are kept
 in OUT.partial), 2 for a command-line error; errors are one line on stderr starting with
-"dlo-kitti2rawlog: ".
-)";
+"dlo-kitti2rawlog: ".)";
 
 using dlo::UsageError;
 
@@ -47,24 +41,21 @@ struct Arguments {
   std::string out;
   std::string gt;
   bool quiet = false;
-  bool help = false;
 };
 
-Arguments parseArguments(int argc, char** argv) {
-  const dlo::CommandLine cl(argc, argv, {"--gt"}, {"--quiet"});
+/// \return nullopt when --help was printed.
+std::optional<Arguments> parseArguments(int argc, char** argv) {
   Arguments a;
-  a.help = cl.help();
-  if (a.help) return a;
-  const auto gt = cl.value("--gt");
-  if (gt && gt->empty()) throw UsageError{"--gt needs a file name."};
-  a.gt = cl.text("--gt");
-  a.quiet = cl.flag("--quiet");
-  if (cl.positional().size() != 2) {
-    throw UsageError{"expected SEQ_DIR and OUT.rawlog, got " +
-                     std::to_string(cl.positional().size()) + " arguments (see --help)."};
-  }
-  a.seq_dir = cl.positional()[0];
-  a.out = cl.positional()[1];
+  dlo::ProgramOptions cl("dlo-kitti2rawlog", kDescription);
+  cl.positional("SEQ_DIR", a.seq_dir, "the KITTI sequence folder (see below)").required();
+  cl.positional("OUT.rawlog", a.out, "the rawlog to write").required();
+  cl.text("--gt", a.gt,
+          "also write the ground truth, LiDAR frame, as TUM lines \"t x y z qx qy qz qw\"")
+      .valueName("FILE");
+  cl.flag("--quiet", a.quiet, "no progress bar and no summary");
+  cl.footer(kFooter);
+  if (!cl.parse(argc, argv)) return std::nullopt;
+  if (cl.given("--gt") && a.gt.empty()) throw UsageError{"--gt needs a file name."};
   return a;
 }
 
@@ -99,11 +90,7 @@ int run(const Arguments& args) {
 
 int main(int argc, char** argv) {
   return dlo::runApp("dlo-kitti2rawlog", [&] {
-    const Arguments args = parseArguments(argc, argv);
-    if (args.help) {
-      std::cout << kUsage;
-      return 0;
-    }
-    return run(args);
+    const std::optional<Arguments> args = parseArguments(argc, argv);
+    return args ? run(*args) : 0;
   });
 }

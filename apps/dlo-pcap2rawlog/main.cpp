@@ -1,37 +1,31 @@
 // dlo-pcap2rawlog: converts a Velodyne .pcap capture into an MRPT rawlog of
 // CObservationVelodyneScan.
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "dlo/app/app_main.h"
-#include "dlo/app/command_line.h"
+#include "dlo/app/program_options.h"
 #include "dlo/app/progress_bar.h"
 #include "dlo/files/error.h"
 #include "dlo/mrpt/pcap_conversion.h"
 
 namespace {
 
-constexpr const char* kUsage =
-    R"(Usage: dlo-pcap2rawlog IN.pcap OUT.rawlog --model VLP16|HDL32|HDL64 [--quiet] [--help]
+constexpr const char* kDescription =
+    "Converts a Velodyne packet capture into an MRPT rawlog, one rotation in memory at a time.";
 
-Converts a Velodyne packet capture into an MRPT rawlog, one rotation in memory at a time.
-
-Output: OUT.rawlog (OUT.rawlog.gz is gzip-compressed), observation-only layout, one
+constexpr const char* kFooter =
+    R"(Output: OUT.rawlog (OUT.rawlog.gz is gzip-compressed), observation-only layout, one
 CObservationVelodyneScan per full rotation (raw packets plus the model's default calibration,
 sensorLabel "Velodyne_SCAN"); GPS packets set the timestamps but are not written. As with MRPT's
 driver, the partial rotation after the last 360-degree wrap is not written; the first one may be
 partial if the capture starts mid-turn. Written to OUT.tmp and renamed at the end, so an
 existing OUT is never half-overwritten.
 
-Options:
-  --model M   sensor model: VLP16, HDL32 or HDL64 (required: a capture does not say).
-  --quiet     no progress and no summary.
-  --help      prints this text.
-
 Exit status: 0 on success, 1 for a bad input, 2 for a command-line error; errors are one line
-on stderr starting with "dlo-pcap2rawlog: ".
-)";
+on stderr starting with "dlo-pcap2rawlog: ".)";
 
 using dlo::UsageError;
 
@@ -40,23 +34,20 @@ struct Arguments {
   std::string out;
   std::string model;
   bool quiet = false;
-  bool help = false;
 };
 
-Arguments parseArguments(int argc, char** argv) {
-  const dlo::CommandLine cl(argc, argv, {"--model"}, {"--quiet"});
+/// \return nullopt when --help was printed.
+std::optional<Arguments> parseArguments(int argc, char** argv) {
   Arguments a;
-  a.help = cl.help();
-  if (a.help) return a;
-  a.model = cl.text("--model");
-  a.quiet = cl.flag("--quiet");
-  if (cl.positional().size() != 2) {
-    throw UsageError{"expected IN.pcap and OUT.rawlog, got " +
-                     std::to_string(cl.positional().size()) + " arguments (see --help)."};
-  }
-  if (a.model.empty()) throw UsageError{"--model VLP16|HDL32|HDL64 is required."};
-  a.pcap = cl.positional()[0];
-  a.out = cl.positional()[1];
+  dlo::ProgramOptions cl("dlo-pcap2rawlog", kDescription);
+  cl.positional("IN.pcap", a.pcap, "the Velodyne capture").required();
+  cl.positional("OUT.rawlog", a.out, "the rawlog to write").required();
+  cl.text("--model", a.model, "sensor model: VLP16, HDL32 or HDL64 (a capture does not say)")
+      .valueName("MODEL")
+      .required();
+  cl.flag("--quiet", a.quiet, "no progress and no summary");
+  cl.footer(kFooter);
+  if (!cl.parse(argc, argv)) return std::nullopt;
   return a;
 }
 
@@ -82,11 +73,7 @@ int run(const Arguments& args) {
 
 int main(int argc, char** argv) {
   return dlo::runApp("dlo-pcap2rawlog", [&] {
-    const Arguments args = parseArguments(argc, argv);
-    if (args.help) {
-      std::cout << kUsage;
-      return 0;
-    }
-    return run(args);
+    const std::optional<Arguments> args = parseArguments(argc, argv);
+    return args ? run(*args) : 0;
   });
 }

@@ -1,24 +1,23 @@
 // dlo-rawlog2kitti: writes the scans of an MRPT rawlog as a KITTI odometry sequence folder (and
 // the ground truth as its poses.txt), for programs that read KITTI folders.
 #include <iostream>
+#include <optional>
 #include <string>
 
 #include "dlo/app/app_main.h"
-#include "dlo/app/command_line.h"
+#include "dlo/app/program_options.h"
 #include "dlo/app/progress_bar.h"
 #include "dlo/files/error.h"
 #include "dlo/mrpt/kitti_conversion.h"
 
 namespace {
 
-constexpr const char* kUsage =
-    R"(Usage: dlo-rawlog2kitti IN.rawlog OUT_DIR [--gt GT.tum] [--max-frames N]
-                        [--min-range M] [--max-range M] [--quiet] [--help]
+constexpr const char* kDescription =
+    "Writes the scans of an MRPT rawlog as a KITTI odometry sequence folder, one scan in memory "
+    "at a time, for programs that read KITTI folders (other odometries, their evaluation tools).";
 
-Writes the scans of an MRPT rawlog as a KITTI odometry sequence folder, one scan in memory at a
-time, for programs that read KITTI folders (other odometries, their evaluation tools).
-
-The scans are those dlo-slam and dlo-bench read from IN: every supported observation, points
+constexpr const char* kFooter =
+    R"(The scans are those dlo-slam and dlo-bench read from IN: every supported observation, points
 in the VEHICLE frame (the observation's sensorPose applied), non-finite points dropped.
 OUT_DIR (new, or an empty folder) receives:
   velodyne/000000.bin, ...   float32 x, y, z, intensity per point (intensity is 0: DLO's scans
@@ -31,18 +30,9 @@ OUT_DIR (new, or an empty folder) receives:
 dlo-kitti2rawlog and dlo-slam --input OUT_DIR read the folder back as the same scans. The folder
 is built as OUT_DIR.tmp and renamed at the end, so OUT_DIR is complete or absent.
 
-Options:
-  --gt FILE        TUM ground truth of IN ("t x y z qx qy qz qw"), written as poses.txt.
-  --max-frames N   only the first N scans.
-  --min-range M    drop points closer than M metres to the sensor (default 0).
-  --max-range M    drop points farther than M metres (default: none).
-  --quiet          no progress and no summary.
-  --help           print this text.
-
 Exit status: 0 on success, 1 for a bad input (a rawlog that breaks part way: the scans before
 the break are written and the break is reported), 2 for a command-line error; errors are one
-line on stderr starting with "dlo-rawlog2kitti: ".
-)";
+line on stderr starting with "dlo-rawlog2kitti: ".)";
 
 using dlo::UsageError;
 
@@ -50,34 +40,31 @@ struct Arguments {
   std::string rawlog, out, gt;
   long max_frames = -1;
   dlo::ScanSourceOptions options;
-  bool quiet = false, help = false;
+  bool quiet = false;
 };
 
-Arguments parseArguments(int argc, char** argv) {
-  const dlo::CommandLine cl(argc, argv, {"--gt", "--max-frames", "--min-range", "--max-range"},
-                            {"--quiet"});
+/// \return nullopt when --help was printed.
+std::optional<Arguments> parseArguments(int argc, char** argv) {
   Arguments a;
-  a.help = cl.help();
-  if (a.help) return a;
-  const auto gt = cl.value("--gt");
-  if (gt && gt->empty()) throw UsageError{"--gt needs a file name."};
-  a.gt = cl.text("--gt");
-  a.quiet = cl.flag("--quiet");
-  a.max_frames = cl.integer("--max-frames", a.max_frames);
-  if (cl.value("--max-frames") && a.max_frames < 1) {
+  dlo::ProgramOptions cl("dlo-rawlog2kitti", kDescription);
+  cl.positional("IN.rawlog", a.rawlog, "the rawlog to read").required();
+  cl.positional("OUT_DIR", a.out, "the KITTI folder to write (see below)").required();
+  cl.text("--gt", a.gt, "TUM ground truth of IN (\"t x y z qx qy qz qw\"), written as poses.txt")
+      .valueName("FILE");
+  cl.wholeNumber("--max-frames", a.max_frames, "only the first N scans (-1: all)").valueName("N");
+  cl.number("--min-range", a.options.min_range, "drop points closer than M metres to the sensor")
+      .valueName("M");
+  cl.number("--max-range", a.options.max_range, "drop points farther than M metres").valueName("M");
+  cl.flag("--quiet", a.quiet, "no progress and no summary");
+  cl.footer(kFooter);
+  if (!cl.parse(argc, argv)) return std::nullopt;
+  if (cl.given("--gt") && a.gt.empty()) throw UsageError{"--gt needs a file name."};
+  if (cl.given("--max-frames") && a.max_frames < 1) {
     throw UsageError{"--max-frames expects a whole number of scans >= 1."};
   }
-  a.options.min_range = cl.number("--min-range", a.options.min_range);
-  a.options.max_range = cl.number("--max-range", a.options.max_range);
   if (!(a.options.min_range >= 0.0 && a.options.max_range > a.options.min_range)) {
     throw UsageError{"--min-range and --max-range must satisfy 0 <= min < max."};
   }
-  if (cl.positional().size() != 2) {
-    throw UsageError{"expected IN.rawlog and OUT_DIR, got " +
-                     std::to_string(cl.positional().size()) + " arguments (see --help)."};
-  }
-  a.rawlog = cl.positional()[0];
-  a.out = cl.positional()[1];
   return a;
 }
 
@@ -107,11 +94,7 @@ int run(const Arguments& args) {
 
 int main(int argc, char** argv) {
   return dlo::runApp("dlo-rawlog2kitti", [&] {
-    const Arguments args = parseArguments(argc, argv);
-    if (args.help) {
-      std::cout << kUsage;
-      return 0;
-    }
-    return run(args);
+    const std::optional<Arguments> args = parseArguments(argc, argv);
+    return args ? run(*args) : 0;
   });
 }

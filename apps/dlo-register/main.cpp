@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "dlo/app/app_main.h"
-#include "dlo/app/command_line.h"
+#include "dlo/app/program_options.h"
 #include "dlo/core/stage_times.h"
 #include "dlo/files/error.h"
 #include "dlo/mrpt/CDirectHeightAligner.h"
@@ -18,25 +18,12 @@
 
 namespace {
 
-constexpr const char* kUsage =
-    R"(Usage: dlo-register REF CUR [--dof 3|6] [--init "x y z yaw pitch roll"]
-                    [--config FILE] [--set section.key=value]... [--help]
+constexpr const char* kDescription =
+    "Registers the scan CUR against the scan REF with Direct LiDAR Odometry and prints one JSON "
+    "object on stdout: the pose of CUR in REF's frame and its covariance.";
 
-Registers the scan CUR against the scan REF with Direct LiDAR Odometry and prints one JSON
-object on stdout: the pose of CUR in REF's frame and its covariance.
-
-Scans: KITTI .bin / .bin.gz, .ply, or an MRPT .rawlog / .rawlog.gz (its first point cloud).
-
-Options:
-  --dof 3|6        degrees of freedom: 3 = x, y, yaw (z, pitch, roll stay at --init);
-                   6 = full SE(3). Overrides solver.dof of --config and --set.
-  --init "x y z yaw pitch roll"
-                   initial guess of CUR in REF: metres and DEGREES (default: identity).
-  --config FILE    MRPT INI file with sections [grid], [selection], [solver]; keys are named
-                   like the fields of dlo::DloParams.
-  --set section.key=value
-                   overrides one parameter after --config; may be repeated.
-  --help           prints this text.
+constexpr const char* kFooter =
+    R"(Scans: KITTI .bin / .bin.gz, .ply, or an MRPT .rawlog / .rawlog.gz (its first point cloud).
 
 Output:
   {"pose": {"x", "y", "z" (metres), "yaw_deg", "pitch_deg", "roll_deg" (degrees)},
@@ -48,8 +35,7 @@ Output:
   Times cover building both height frames and the solve, not reading the files.
 
 Exit status: 0 on success, 1 for a bad input file or parameter, 2 for a command-line error;
-errors are one line on stderr starting with "dlo-register: ".
-)";
+errors are one line on stderr starting with "dlo-register: ".)";
 
 using dlo::UsageError;
 
@@ -60,7 +46,6 @@ struct Arguments {
   mrpt::poses::CPose3D init;
   std::string config;
   std::vector<std::string> sets;
-  bool help = false;
 };
 
 int parseDof(const std::string& text) {
@@ -91,21 +76,29 @@ mrpt::poses::CPose3D parseInit(const std::string& text) {
   return mrpt::poses::CPose3D(v[0], v[1], v[2], v[3] * kRad, v[4] * kRad, v[5] * kRad);
 }
 
-Arguments parseArguments(int argc, char** argv) {
-  const dlo::CommandLine cl(argc, argv, {"--dof", "--init", "--config", "--set"}, {});
+/// \return nullopt when --help was printed.
+std::optional<Arguments> parseArguments(int argc, char** argv) {
   Arguments a;
-  a.help = cl.help();
-  if (a.help) return a;
-  if (const auto dof = cl.value("--dof")) a.dof = parseDof(*dof);
-  if (const auto init = cl.value("--init")) a.init = parseInit(*init);
-  a.config = cl.text("--config");
-  a.sets = cl.values("--set");
-  if (cl.positional().size() != 2) {
-    throw UsageError{"expected two scan files REF and CUR, got " +
-                     std::to_string(cl.positional().size()) + " (see --help)."};
-  }
-  a.ref = cl.positional()[0];
-  a.cur = cl.positional()[1];
+  std::string dof, init;
+  dlo::ProgramOptions cl("dlo-register", kDescription);
+  cl.positional("REF", a.ref, "the reference scan").required();
+  cl.positional("CUR", a.cur, "the scan to register against REF").required();
+  cl.text("--dof", dof,
+          "degrees of freedom: 3 = x, y, yaw (z, pitch, roll stay at --init); 6 = full SE(3). "
+          "Overrides solver.dof of --config and --set")
+      .valueName("3|6");
+  cl.text("--init", init, "initial guess of CUR in REF: metres and DEGREES (default: identity)")
+      .valueName("\"x y z yaw pitch roll\"");
+  cl.text("--config", a.config,
+          "MRPT INI file with sections [grid], [selection], [solver]; keys are named like the "
+          "fields of dlo::DloParams")
+      .valueName("FILE");
+  cl.repeatable("--set", a.sets, "overrides one parameter after --config; may be repeated")
+      .valueName("section.key=value");
+  cl.footer(kFooter);
+  if (!cl.parse(argc, argv)) return std::nullopt;
+  if (cl.given("--dof")) a.dof = parseDof(dof);
+  if (cl.given("--init")) a.init = parseInit(init);
   return a;
 }
 
@@ -135,11 +128,7 @@ int run(const Arguments& args) {
 
 int main(int argc, char** argv) {
   return dlo::runApp("dlo-register", [&] {
-    const Arguments args = parseArguments(argc, argv);
-    if (args.help) {
-      std::cout << kUsage;
-      return 0;
-    }
-    return run(args);
+    const std::optional<Arguments> args = parseArguments(argc, argv);
+    return args ? run(*args) : 0;
   });
 }

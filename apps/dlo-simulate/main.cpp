@@ -8,7 +8,7 @@
 #include <string>
 
 #include "dlo/app/app_main.h"
-#include "dlo/app/command_line.h"
+#include "dlo/app/program_options.h"
 #include "dlo/files/atomic_file.h"
 #include "dlo/mrpt/rawlog_writer.h"
 #include "dlo/sim/lidar_model.h"
@@ -21,16 +21,14 @@
 
 namespace {
 
-constexpr const char* kUsage =
-    R"(Usage: dlo-simulate --out DIR [--frames N] [--sensor HDL64|HDL32|VLP16|OS64|OS128]
-                    [--seed S] [--corner-transition M] [--patrol [--speed V] [--turn-rate W]]
-                    [--hills G] [--open-road] [--stops] [--no-point-times]
-                    [--sweep-start DEG] [--spin cw|ccw] [--threads T] [--quiet] [--help]
+constexpr const char* kDescription =
+    "Simulates a LiDAR on a car driving laps around a 60 x 40 m block of a procedural town on "
+    "rolling hills (roads with crown and kerbs, buildings, trees, poles, parked and moving cars), "
+    "turning each corner on a 10 m radius entered and left along 8 m clothoids (the yaw rate "
+    "ramps up and down over about a second, as when steering), and writes DIR/sequence.rawlog "
+    "and DIR/groundtruth.tum.";
 
-Simulates a LiDAR on a car driving laps around a 60 x 40 m block of a procedural town on
-rolling hills (roads with crown and kerbs, buildings, trees, poles, parked and moving cars),
-turning each corner on a 10 m radius entered and left along 8 m clothoids (the yaw rate ramps
-up and down over about a second, as when steering), and writes:
+constexpr const char* kFooter = R"(Outputs:
   DIR/sequence.rawlog   one mrpt::obs::CObservationVelodyneScan per sweep (label "LIDAR"):
                         point_cloud holds the points in the sensor frame with per-point
                         timestamps (motion distortion, range noise and dropouts included),
@@ -42,48 +40,8 @@ up and down over about a second, as when steering), and writes:
   DIR/groundtruth.tum   "timestamp x y z qx qy qz qw" of the vehicle frame in the world at
                         each sweep's reference time (its first firing)
 
-Options:
-  --out DIR      output folder (created if missing)
-  --frames N     number of sweeps, 10 per second (default 300)
-  --sensor S     VLP16, HDL32, HDL64 (Velodyne), OS64 or OS128 (Ouster OS1-like: 64 or 128
-                 beams evenly over +22.5..-22.5 deg, 1024 columns, 0.5-120 m) (default HDL64)
-  --seed S       world and noise seed; the same seed gives byte-identical files (default 1)
-  --corner-transition M
-                 metres of clothoid over which each corner's curvature ramps up and down
-                 (default 8); 0 makes circular corners, whose yaw rate steps from zero to
-                 about 34 deg/s and back within a firing, as a brisk driver or a robot does
-  --patrol       a robot's patrol instead of the car's laps: around the same block at
-                 --speed, stopping at each crossing to turn 90 deg on the spot at
-                 --turn-rate (the yaw rate steps), after turning round twice (180 deg) at
-                 the start; about 170 s per lap at 1.5 m/s
-  --speed V      patrol speed, m/s in [0.2, 5] (default 1.5)
-  --turn-rate W  patrol turn rate on the spot, deg/s in [10, 180] (default 90)
-  --hills G      steep hills instead of the gentle ones: the ground's grade (with the road's
-                 crown) stays within G in [0.05, 0.3] (0.2 = 20 %) and the drive reaches
-                 about 0.75 G between crests and dips every ~55 m; the car pitches and rolls
-                 with the road, everything stands on the ground
-  --open-road    an open road instead of the town: the car drives at 15 m/s along a 585 m
-                 straight (then round a 1200 x 150 m rectangle) through grass, kerbs on both
-                 sides, a pole every ~60 m and a clump of trees every ~200 m, so that the
-                 scans constrain little along the road
-  --stops        hard stops: 6 s into the drive and every 12 s after, the car brakes at
-                 7 m/s^2 to a standstill, waits 2 s and accelerates again at 2.5 m/s^2
-  --no-point-times
-                 write each sweep as an mrpt::obs::CObservationPointCloud of the same points
-                 (sensor frame, firing order, motion distortion included) without per-point
-                 times, as KITTI files and most point-cloud inputs come
-  --sweep-start DEG
-                 azimuth where each sweep starts, degrees counter-clockwise from the
-                 sensor's forward axis, in [-360, 360] (default 0: forward)
-  --spin D       rotation of the head seen from above: cw (default, as Velodyne and Ouster
-                 sensors) or ccw
-  --threads T    worker threads (default 2); the output does not depend on it
-  --quiet        no progress on stderr
-  --help         prints this text
-
 Exit status: 0 on success, 1 for an output that cannot be written, 2 for a bad argument;
-errors are one line on stderr starting with "dlo-simulate: ".
-)";
+errors are one line on stderr starting with "dlo-simulate: ".)";
 
 using dlo::OutputError;
 using dlo::UsageError;
@@ -105,7 +63,6 @@ struct Arguments {
   double sweep_start = 0.0;
   int spin = -1;  // -1 clockwise, +1 counter-clockwise
   bool quiet = false;
-  bool help = false;
 };
 
 /// `text` read whole by `read` (std::stol or std::stod) and within [lo, hi], or a UsageError
@@ -134,63 +91,113 @@ double parseNumber(const std::string& name, const std::string& text, double lo, 
                             [](const std::string& s, size_t* used) { return std::stod(s, used); });
 }
 
-Arguments parseArguments(int argc, char** argv) {
-  const dlo::CommandLine cl(
-      argc, argv,
-      {"--out", "--frames", "--sensor", "--seed", "--threads", "--corner-transition", "--speed",
-       "--turn-rate", "--hills", "--sweep-start", "--spin"},
-      {"--quiet", "--patrol", "--no-point-times", "--open-road", "--stops"});
+/// \return nullopt when --help was printed.
+std::optional<Arguments> parseArguments(int argc, char** argv) {
   Arguments a;
-  if (cl.help()) {
-    a.help = true;
-    return a;
+  // The numbers are read here, not by the parser, for their ranges and messages.
+  std::string frames, sensor, seed, corner_transition, speed, turn_rate, hills, sweep_start, spin,
+      threads;
+  dlo::ProgramOptions cl("dlo-simulate", kDescription);
+  cl.text("--out", a.out, "output folder (created if missing)").valueName("DIR").required();
+  cl.text("--frames", frames, "number of sweeps, 10 per second").valueName("N").defaultText("300");
+  cl.text("--sensor", sensor,
+          "VLP16, HDL32, HDL64 (Velodyne), OS64 or OS128 (Ouster OS1-like: 64 or 128 beams "
+          "evenly over +22.5..-22.5 deg, 1024 columns, 0.5-120 m)")
+      .valueName("S")
+      .defaultText("HDL64");
+  cl.text("--seed", seed, "world and noise seed; the same seed gives byte-identical files")
+      .valueName("S")
+      .defaultText("1");
+  cl.text("--corner-transition", corner_transition,
+          "metres of clothoid over which each corner's curvature ramps up and down; 0 makes "
+          "circular corners, whose yaw rate steps from zero to about 34 deg/s and back within a "
+          "firing, as a brisk driver or a robot does")
+      .valueName("M")
+      .defaultText("8");
+  cl.flag("--patrol", a.patrol,
+          "a robot's patrol instead of the car's laps: around the same block at --speed, "
+          "stopping at each crossing to turn 90 deg on the spot at --turn-rate (the yaw rate "
+          "steps), after turning round twice (180 deg) at the start; about 170 s per lap at "
+          "1.5 m/s");
+  cl.text("--speed", speed, "patrol speed, m/s in [0.2, 5]").valueName("V").defaultText("1.5");
+  cl.text("--turn-rate", turn_rate, "patrol turn rate on the spot, deg/s in [10, 180]")
+      .valueName("W")
+      .defaultText("90");
+  cl.text("--hills", hills,
+          "steep hills instead of the gentle ones: the ground's grade (with the road's crown) "
+          "stays within G in [0.05, 0.3] (0.2 = 20 %) and the drive reaches about 0.75 G between "
+          "crests and dips every ~55 m; the car pitches and rolls with the road, everything "
+          "stands on the ground")
+      .valueName("G");
+  cl.flag("--open-road", a.open_road,
+          "an open road instead of the town: the car drives at 15 m/s along a 585 m straight "
+          "(then round a 1200 x 150 m rectangle) through grass, kerbs on both sides, a pole every "
+          "~60 m and a clump of trees every ~200 m, so that the scans constrain little along the "
+          "road");
+  cl.flag("--stops", a.stops,
+          "hard stops: 6 s into the drive and every 12 s after, the car brakes at 7 m/s^2 to a "
+          "standstill, waits 2 s and accelerates again at 2.5 m/s^2");
+  cl.flag("--no-point-times", a.no_point_times,
+          "write each sweep as an mrpt::obs::CObservationPointCloud of the same points (sensor "
+          "frame, firing order, motion distortion included) without per-point times, as KITTI "
+          "files and most point-cloud inputs come");
+  cl.text("--sweep-start", sweep_start,
+          "azimuth where each sweep starts, degrees counter-clockwise from the sensor's forward "
+          "axis, in [-360, 360] (0: forward)")
+      .valueName("DEG")
+      .defaultText("0");
+  cl.text("--spin", spin,
+          "rotation of the head seen from above: cw (as Velodyne and Ouster sensors) or ccw")
+      .valueName("D")
+      .defaultText("cw");
+  cl.text("--threads", threads, "worker threads; the output does not depend on it")
+      .valueName("T")
+      .defaultText("2");
+  cl.flag("--quiet", a.quiet, "no progress on stderr");
+  cl.footer(kFooter);
+  if (!cl.parse(argc, argv)) return std::nullopt;
+  if (cl.given("--frames")) {
+    a.frames = static_cast<int>(parseInteger("--frames", frames, 1, 10000000, "an integer >= 1"));
   }
-  cl.rejectPositional();
-  a.quiet = cl.flag("--quiet");
-  a.patrol = cl.flag("--patrol");
-  a.no_point_times = cl.flag("--no-point-times");
-  a.open_road = cl.flag("--open-road");
-  a.stops = cl.flag("--stops");
-  a.out = cl.text("--out");
-  if (const auto v = cl.value("--frames")) {
-    a.frames = static_cast<int>(parseInteger("--frames", *v, 1, 10000000, "an integer >= 1"));
-  }
-  if (const auto v = cl.value("--sensor")) {
-    const auto s = dlo::sim::parseSensorType(*v);
+  if (cl.given("--sensor")) {
+    const auto s = dlo::sim::parseSensorType(sensor);
     if (!s) {
-      throw UsageError{"--sensor must be VLP16, HDL32, HDL64, OS64 or OS128, got '" + *v + "'."};
+      throw UsageError{"--sensor must be VLP16, HDL32, HDL64, OS64 or OS128, got '" + sensor +
+                       "'."};
     }
     a.sensor = *s;
   }
-  if (const auto v = cl.value("--seed")) {
+  if (cl.given("--seed")) {
     a.seed = static_cast<uint32_t>(
-        parseInteger("--seed", *v, 0, 4294967295L, "an integer in [0, 4294967295]"));
+        parseInteger("--seed", seed, 0, 4294967295L, "an integer in [0, 4294967295]"));
   }
-  if (const auto v = cl.value("--corner-transition")) {
-    a.corner_transition =
-        parseNumber("--corner-transition", *v, 0.0, 15.0, "a number of metres in [0, 15]");
+  if (cl.given("--corner-transition")) {
+    a.corner_transition = parseNumber("--corner-transition", corner_transition, 0.0, 15.0,
+                                      "a number of metres in [0, 15]");
   }
-  if (const auto v = cl.value("--speed")) {
-    a.speed = parseNumber("--speed", *v, 0.2, 5.0, "a speed in [0.2, 5] m/s");
+  if (cl.given("--speed")) {
+    a.speed = parseNumber("--speed", speed, 0.2, 5.0, "a speed in [0.2, 5] m/s");
   }
-  if (const auto v = cl.value("--turn-rate")) {
-    a.turn_rate = parseNumber("--turn-rate", *v, 10.0, 180.0, "a rate in [10, 180] deg/s");
+  if (cl.given("--turn-rate")) {
+    a.turn_rate = parseNumber("--turn-rate", turn_rate, 10.0, 180.0, "a rate in [10, 180] deg/s");
   }
-  if (const auto v = cl.value("--hills")) {
-    a.hills = parseNumber("--hills", *v, 0.05, 0.3, "a grade in [0.05, 0.3]");
+  if (cl.given("--hills")) {
+    a.hills = parseNumber("--hills", hills, 0.05, 0.3, "a grade in [0.05, 0.3]");
   }
-  if (const auto v = cl.value("--sweep-start")) {
+  if (cl.given("--sweep-start")) {
     a.sweep_start =
-        parseNumber("--sweep-start", *v, -360.0, 360.0, "an angle in [-360, 360] degrees");
+        parseNumber("--sweep-start", sweep_start, -360.0, 360.0, "an angle in [-360, 360] degrees");
   }
-  if (const auto v = cl.value("--spin")) {
-    if (*v != "cw" && *v != "ccw") throw UsageError{"--spin must be cw or ccw, got '" + *v + "'."};
-    a.spin = *v == "cw" ? -1 : 1;
+  if (cl.given("--spin")) {
+    if (spin != "cw" && spin != "ccw") {
+      throw UsageError{"--spin must be cw or ccw, got '" + spin + "'."};
+    }
+    a.spin = spin == "cw" ? -1 : 1;
   }
-  if (const auto v = cl.value("--threads")) {
-    a.threads = static_cast<int>(parseInteger("--threads", *v, 1, 64, "an integer in [1, 64]"));
+  if (cl.given("--threads")) {
+    a.threads =
+        static_cast<int>(parseInteger("--threads", threads, 1, 64, "an integer in [1, 64]"));
   }
-  if (a.out.empty()) throw UsageError{"--out DIR is required (see --help)."};
   return a;
 }
 
@@ -297,11 +304,7 @@ int run(const Arguments& a) {
 
 int main(int argc, char** argv) {
   return dlo::runApp("dlo-simulate", [&] {
-    const Arguments a = parseArguments(argc, argv);
-    if (a.help) {
-      std::cout << kUsage;
-      return 0;
-    }
-    return run(a);
+    const std::optional<Arguments> args = parseArguments(argc, argv);
+    return args ? run(*args) : 0;
   });
 }

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "dlo/app/app_main.h"
-#include "dlo/app/command_line.h"
+#include "dlo/app/program_options.h"
 #include "dlo/app/progress_bar.h"
 #include "dlo/export/export_all.h"
 #include "dlo/files/atomic_file.h"
@@ -27,14 +27,12 @@
 
 namespace {
 
-constexpr const char* kUsage =
-    R"(Usage: dlo-slam --input IN --out DIR [--config FILE] [--gt GT.tum] [--set section.key=value]...
-                [--sensor-profile auto|dense|sparse|FILE] [--model VLP16|HDL32|HDL64]
-                [--sensor-label L] [--min-range M] [--max-range M]
-                [--max-frames N] [--quiet] [--dump-config] [--help]
+constexpr const char* kDescription =
+    "Runs DLO odometry with a keyframe pose graph and loop closure over the LiDAR scans of IN and "
+    "writes the trajectory, the pose graph, maps and a report into DIR (created if needed), each "
+    "file atomically.";
 
-Runs DLO odometry with a keyframe pose graph and loop closure over the LiDAR scans of IN and
-writes, into DIR (created if needed), each file atomically:
+constexpr const char* kFooter = R"(Outputs in DIR:
   trajectory.tum, trajectory.kitti   one pose per scan, vehicle frame, relative to the first scan
   keyframes.graph                    optimised pose graph (MRPT graph-slam reads it)
   map.simplemap                      keyframes with their point clouds (CSimpleMap)
@@ -54,31 +52,10 @@ Input:
                              optionally poses.txt + calib.txt, then used as --gt unless given);
                              points stay in the LiDAR frame.
 
-Options:
-  --config FILE        MRPT INI with [grid] [selection] [solver] [odometry] [loop]; see
-                       config/dlo-slam.ini (every key commented) or --dump-config.
-  --set section.key=value
-                       overrides one parameter after --config; may be repeated.
-  --sensor-profile P   the settings for the kind of sensor, applied before --config and --set:
-                       dense (48 rings or more), sparse (fewer), or a profile file; auto
-                       (default) picks dense or sparse from the input's sensor model, else from
-                       the rings of its first scan, else from its point count (report.json
-                       says which and why). The profiles: config/sensors/*.ini.
-  --gt FILE            ground truth (TUM or KITTI poses) for report.json's accuracy.
-  --sensor-label L     only observations with this sensor label.
-  --min-range M        drop points closer than M metres to the sensor (default 2.0: the vehicle).
-  --max-range M        drop points farther than M metres (default 120).
-  --max-frames N       stop after N scans.
-  --quiet              no progress bar.
-  --dump-config        print the effective configuration as INI and exit (with auto, the dense
-                       profile's).
-  --help               print this text.
-
 SIGINT or SIGTERM stops the run after the current scan; the outputs for what was processed are
 written, then dlo-slam exits with status 3.
 Exit status: 0 on success, 1 for a bad input file or parameter, 2 for a command-line error,
-3 when interrupted; errors are one line on stderr starting with "dlo-slam: ".
-)";
+3 when interrupted; errors are one line on stderr starting with "dlo-slam: ".)";
 
 std::atomic<bool> g_stop{false};
 void onSignal(int) {
@@ -93,35 +70,48 @@ struct Arguments {
   double min_range = 2.0;
   double max_range = 120.0;
   long max_frames = -1;
-  bool quiet = false, dump_config = false, help = false;
+  bool quiet = false, dump_config = false;
 };
 
-Arguments parseArguments(int argc, char** argv) {
-  const dlo::CommandLine cl(
-      argc, argv,
-      {"--input", "--out", "--config", "--gt", "--set", "--model", "--sensor-label", "--min-range",
-       "--max-range", "--max-frames", "--sensor-profile"},
-      {"--quiet", "--dump-config"});
+/// \return nullopt when --help was printed.
+std::optional<Arguments> parseArguments(int argc, char** argv) {
   Arguments a;
-  a.help = cl.help();
-  if (a.help) return a;
-  cl.rejectPositional();
-  a.input = cl.text("--input");
-  a.out = cl.text("--out");
-  a.config = cl.text("--config");
-  a.gt = cl.text("--gt");
-  a.sets = cl.values("--set");
-  a.model = cl.text("--model");
-  a.sensor_label = cl.text("--sensor-label");
-  a.sensor_profile = cl.value("--sensor-profile").value_or(a.sensor_profile);
-  a.min_range = cl.number("--min-range", a.min_range);
-  a.max_range = cl.number("--max-range", a.max_range);
-  a.max_frames = cl.integer("--max-frames", a.max_frames);
-  a.quiet = cl.flag("--quiet");
-  a.dump_config = cl.flag("--dump-config");
+  dlo::ProgramOptions cl("dlo-slam", kDescription);
+  cl.text("--input", a.input,
+          "a rawlog, a Velodyne .pcap or a KITTI folder (see Input); required unless "
+          "--dump-config")
+      .valueName("IN");
+  cl.text("--out", a.out, "output folder; required unless --dump-config").valueName("DIR");
+  cl.text("--config", a.config,
+          "MRPT INI with [grid] [selection] [solver] [odometry] [loop]; see config/dlo-slam.ini "
+          "(every key commented) or --dump-config")
+      .valueName("FILE");
+  cl.repeatable("--set", a.sets, "overrides one parameter after --config; may be repeated")
+      .valueName("section.key=value");
+  cl.text("--sensor-profile", a.sensor_profile,
+          "the settings for the kind of sensor, applied before --config and --set: dense (48 "
+          "rings or more), sparse (fewer), or a profile file; auto picks dense or sparse from the "
+          "input's sensor model, else from the rings of its first scan, else from its point "
+          "count (report.json says which and why). The profiles: config/sensors/*.ini")
+      .valueName("auto|dense|sparse|FILE");
+  cl.text("--gt", a.gt, "ground truth (TUM or KITTI poses) for report.json's accuracy")
+      .valueName("FILE");
+  cl.text("--model", a.model, "the Velodyne model of a .pcap input").valueName("VLP16|HDL32|HDL64");
+  cl.text("--sensor-label", a.sensor_label, "only observations with this sensor label")
+      .valueName("L");
+  cl.number("--min-range", a.min_range,
+            "drop points closer than M metres to the sensor (the vehicle)")
+      .valueName("M");
+  cl.number("--max-range", a.max_range, "drop points farther than M metres").valueName("M");
+  cl.wholeNumber("--max-frames", a.max_frames, "stop after N scans (-1: all)").valueName("N");
+  cl.flag("--quiet", a.quiet, "no progress bar");
+  cl.flag("--dump-config", a.dump_config,
+          "print the effective configuration as INI and exit (with auto, the dense profile's)");
+  cl.footer(kFooter);
+  if (!cl.parse(argc, argv)) return std::nullopt;
   if (a.dump_config) return a;
-  cl.required("--input");
-  cl.required("--out");
+  if (a.input.empty()) throw UsageError{"--input is required (see --help)."};
+  if (a.out.empty()) throw UsageError{"--out is required (see --help)."};
   if (!(a.min_range >= 0.0 && a.max_range > a.min_range)) {
     throw UsageError{"--min-range and --max-range must satisfy 0 <= min < max."};
   }
@@ -274,11 +264,7 @@ int run(const Arguments& args) {
 
 int main(int argc, char** argv) {
   return dlo::runApp("dlo-slam", [&] {
-    const Arguments args = parseArguments(argc, argv);
-    if (args.help) {
-      std::cout << kUsage;
-      return 0;
-    }
-    return run(args);
+    const std::optional<Arguments> args = parseArguments(argc, argv);
+    return args ? run(*args) : 0;
   });
 }

@@ -232,7 +232,7 @@ TEST_F(DloRegister, RawlogAgainstItselfIsIdentity) {
 TEST_F(DloRegister, HelpPrintsUsage) {
   const RunResult r = runRegister({"--help"}, wd_);
   EXPECT_EQ(r.status, 0);
-  EXPECT_NE(r.out.find("Usage: dlo-register REF CUR"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Usage: dlo-register [OPTIONS] REF CUR"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("RADIANS"), std::string::npos) << r.out;
 }
 
