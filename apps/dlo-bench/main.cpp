@@ -51,7 +51,7 @@ The table is also printed. Without --gt the accuracy columns are n/a and the not
 each trajectory ends.
 
 Methods (default: all of them):
-  dlo-paper   the paper's frame-to-frame DLO (odometry.reference = 0, no loop closure)
+  dlo-paper   the paper's frame-to-frame DLO (odometry.reference = previous, no loop closure)
   dlo         the full pipeline: local-map odometry, keyframe graph, loop closure (defaults)
   icp         MRPT CICP (3D, classic) frame to frame on cropped, voxel-filtered scans
   ndt, gicp   PCL's 3D-NDT and GICP, same preprocessing (only when built with PCL)
