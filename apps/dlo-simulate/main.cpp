@@ -1,6 +1,6 @@
 // dlo-simulate: writes a simulated rotating-LiDAR sequence (MRPT rawlog + TUM ground truth).
 #include <chrono>
-#include <cinttypes>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -10,6 +10,7 @@
 #include "dlo/app/app_main.h"
 #include "dlo/app/program_options.h"
 #include "dlo/files/atomic_file.h"
+#include "dlo/metrics/trajectory_io.h"
 #include "dlo/mrpt/rawlog_writer.h"
 #include "dlo/sim/lidar_model.h"
 #include "dlo/sim/procedural_world.h"
@@ -201,25 +202,6 @@ std::optional<Arguments> parseArguments(int argc, char** argv) {
   return a;
 }
 
-/// "seconds.nanoseconds" without going through a double.
-std::string tumTimestamp(int64_t epochSeconds, int64_t ns) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%" PRId64 ".%09" PRId64, epochSeconds + ns / 1000000000,
-                ns % 1000000000);
-  return buf;
-}
-
-std::string tumLine(const std::string& stamp, const Eigen::Isometry3d& pose) {
-  Eigen::Quaterniond q(pose.linear());
-  q.normalize();
-  if (q.w() < 0) q.coeffs() *= -1.0;  // One sign, so that files compare equal.
-  const Eigen::Vector3d t = pose.translation();
-  char buf[256];
-  std::snprintf(buf, sizeof(buf), "%s %.6f %.6f %.6f %.9f %.9f %.9f %.9f\n", stamp.c_str(), t.x(),
-                t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
-  return buf;
-}
-
 int run(const Arguments& a) {
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -234,9 +216,6 @@ int run(const Arguments& a) {
   } catch (const dlo::Error&) {
     throw OutputError{"--out: cannot write to directory '" + a.out + "'."};
   }
-  dlo::AtomicOutput tumOutput((fs::path(a.out) / "groundtruth.tum").string());
-  std::FILE* tum = std::fopen(tumOutput.temp().c_str(), "w");
-  if (!tum) throw OutputError{"--out: cannot write to directory '" + a.out + "'."};
 
   // A whole hour (2024-01-01T00:00:00Z), so that the packets' "microseconds since the top of
   // the hour" equal the time since the start, modulo one hour.
@@ -265,12 +244,14 @@ int run(const Arguments& a) {
   params.threads = a.threads;
   const dlo::sim::SweepSimulator simulator(world, trajectory, params);
 
-  std::fprintf(tum,
-               "# dlo-simulate ground truth: timestamp x y z qx qy qz qw of the vehicle "
-               "frame in the world, sensor %s, seed %u, sensor mounted at x=%.2f y=%.2f "
-               "z=%.2f on the vehicle\n",
-               params.model.name.c_str(), a.seed, trajectory.geometry().sensorPosition.x(),
-               trajectory.geometry().sensorPosition.y(), trajectory.geometry().sensorPosition.z());
+  char header[512];
+  std::snprintf(header, sizeof(header),
+                "# dlo-simulate ground truth: timestamp x y z qx qy qz qw of the vehicle "
+                "frame in the world, sensor %s, seed %u, sensor mounted at x=%.2f y=%.2f "
+                "z=%.2f on the vehicle\n",
+                params.model.name.c_str(), a.seed, trajectory.geometry().sensorPosition.x(),
+                trajectory.geometry().sensorPosition.y(), trajectory.geometry().sensorPosition.z());
+  dlo::metrics::TumWriter groundTruth((fs::path(a.out) / "groundtruth.tum").string(), header);
 
   const Eigen::Isometry3d mount = trajectory.sensorMount();
   const auto start = std::chrono::steady_clock::now();
@@ -285,7 +266,7 @@ int run(const Arguments& a) {
     }
     const Eigen::Isometry3d pose =
         trajectory.vehiclePose(static_cast<double>(sweep.referenceTimeNs) * 1e-9);
-    std::fputs(tumLine(tumTimestamp(kEpochSeconds, sweep.referenceTimeNs), pose).c_str(), tum);
+    groundTruth.write(kEpochSeconds, sweep.referenceTimeNs, pose);
     if (!a.quiet && ((k + 1) % 10 == 0 || k + 1 == a.frames)) {
       const double s =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -293,10 +274,8 @@ int run(const Arguments& a) {
                    (k + 1) / std::max(s, 1e-9));
     }
   }
-  const bool tumOk = std::fclose(tum) == 0;
-  if (!tumOk) throw OutputError{"--out: failed writing '" + tumOutput.temp() + "'."};
   rawlog->commit();
-  tumOutput.commit();
+  groundTruth.commit();
   return 0;
 }
 

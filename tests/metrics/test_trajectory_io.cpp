@@ -63,6 +63,49 @@ TEST_F(TrajectoryFiles, TumRoundTripKeepsTimesAndPoses) {
             dlo::metrics::TrajectoryFormat::kTum);
 }
 
+TEST_F(TrajectoryFiles, TheStreamingWriterStampsExactlyAndWritesTheSameLinesAsTheWholeFile) {
+  const Trajectory t = helix(3);
+  {
+    dlo::metrics::TumWriter out(path("s.tum"), "# a header\n");
+    // Seconds and nanoseconds as a simulator's clock has them: no rounding through a double.
+    out.write(1704067200, 1, t.poses[0]);
+    out.write(1704067200, 999999999, t.poses[1]);
+    out.write(t.times[2], t.poses[2]);
+    EXPECT_FALSE(fs::exists(path("s.tum"))) << "visible before commit()";
+    out.commit();
+  }
+  std::ifstream in(path("s.tum"));
+  std::string header, first, second, third;
+  std::getline(in, header);
+  std::getline(in, first);
+  std::getline(in, second);
+  std::getline(in, third);
+  EXPECT_EQ(header, "# a header");
+  EXPECT_EQ(first.substr(0, 21), "1704067200.000000001 ");
+  EXPECT_EQ(second.substr(0, 21), "1704067200.999999999 ");
+  // The whole-file writer's line for the same pose and time.
+  Trajectory one;
+  one.push_back(t.times[2], t.poses[2]);
+  dlo::metrics::writeTumTrajectory(path("w.tum"), one, dlo::metrics::TumHeader::kNone);
+  std::ifstream whole(path("w.tum"));
+  std::string line;
+  std::getline(whole, line);
+  EXPECT_EQ(third, line);
+}
+
+TEST_F(TrajectoryFiles, AStreamingWriterDroppedBeforeCommitLeavesThePreviousFile) {
+  writeText("keep.tum", "previous\n");
+  {
+    dlo::metrics::TumWriter out(path("keep.tum"), "");
+    out.write(1.0, Eigen::Isometry3d::Identity());
+  }  // an error part way: no commit()
+  std::ifstream in(path("keep.tum"));
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "previous");
+  EXPECT_FALSE(fs::exists(path("keep.tum.tmp")));
+}
+
 TEST_F(TrajectoryFiles, KittiRoundTripWithSeparateTimestamps) {
   const Trajectory t = helix(50);
   dlo::metrics::writeKittiTrajectory(path("poses.txt"), t);

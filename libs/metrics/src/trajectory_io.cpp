@@ -156,16 +156,51 @@ std::vector<double> readTimestamps(const std::string& path) {
   return out;
 }
 
+TumWriter::TumWriter(const std::string& path, const std::string& header) : output_(path) {
+  file_ = std::fopen(output_.temp().c_str(), "w");
+  if (!file_) {
+    throw OutputError("cannot write '" + path + "' (its folder is missing or not writable).");
+  }
+  std::fputs(header.c_str(), file_);
+}
+
+TumWriter::~TumWriter() {
+  if (file_) std::fclose(file_);
+}
+
+void TumWriter::write(double time, const Eigen::Isometry3d& pose) {
+  std::fprintf(file_, "%.9f ", time);
+  writePose(pose);
+}
+
+void TumWriter::write(std::int64_t seconds, std::int64_t nanoseconds,
+                      const Eigen::Isometry3d& pose) {
+  const std::int64_t ns = seconds * 1000000000 + nanoseconds;
+  std::fprintf(file_, "%lld.%09lld ", static_cast<long long>(ns / 1000000000),
+               static_cast<long long>(ns % 1000000000));
+  writePose(pose);
+}
+
+void TumWriter::writePose(const Eigen::Isometry3d& pose) {
+  const Eigen::Vector3d t = pose.translation();
+  const Eigen::Quaterniond q(pose.rotation());
+  std::fprintf(file_, "%.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", t.x(), t.y(), t.z(), q.x(), q.y(),
+               q.z(), q.w());
+}
+
+void TumWriter::commit() {
+  const bool ok = !std::ferror(file_);
+  const bool closed = std::fclose(file_) == 0;
+  file_ = nullptr;
+  if (!ok || !closed) throw OutputError("cannot write '" + output_.path() + "' (disk full?).");
+  output_.commit();
+}
+
 void writeTumTrajectory(const std::string& path, const Trajectory& trajectory, TumHeader header) {
-  writeAtomically(path, [&](std::FILE* f) {
-    if (header == TumHeader::kColumnNames) std::fprintf(f, "# t x y z qx qy qz qw\n");
-    for (size_t i = 0; i < trajectory.size(); ++i) {
-      const Eigen::Vector3d t = trajectory.poses[i].translation();
-      const Eigen::Quaterniond q(trajectory.poses[i].rotation());
-      std::fprintf(f, "%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", trajectory.times[i], t.x(),
-                   t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
-    }
-  });
+  TumWriter out(path, header == TumHeader::kColumnNames ? "# t x y z qx qy qz qw\n" : "");
+  for (size_t i = 0; i < trajectory.size(); ++i)
+    out.write(trajectory.times[i], trajectory.poses[i]);
+  out.commit();
 }
 
 void writeKittiTrajectory(const std::string& path, const Trajectory& trajectory) {

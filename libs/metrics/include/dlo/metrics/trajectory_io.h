@@ -2,8 +2,13 @@
 /// \brief Reading and writing trajectories in the TUM and KITTI text formats.
 #pragma once
 
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <cstdio>
 #include <string>
 #include <vector>
+
+#include "dlo/files/atomic_file.h"
 
 #include "dlo/metrics/trajectory.h"
 
@@ -44,9 +49,37 @@ enum class TumHeader {
   kNone,         ///< nothing: the first pose is the first line
 };
 
-/// Writes a TUM file (9 decimals: nanosecond stamps, sub-millimetre positions), the one TUM
-/// writer of DLO. The file is written atomically (dlo::writeAtomically), so `path` is either
-/// complete or untouched.
+/// A TUM file written pose by pose, the one TUM writer of DLO (9 decimals: nanosecond stamps,
+/// sub-millimetre positions): a long run streams its poses. Atomic: the file is written under a
+/// temporary name (dlo::AtomicOutput) and renamed by commit(); destroyed without commit(),
+/// nothing is left and `path` keeps what it held.
+class TumWriter {
+ public:
+  /// \param header comment lines written first, each "# ...\n"; empty for none.
+  /// \throws dlo::OutputError naming `path` if it cannot be created.
+  TumWriter(const std::string& path, const std::string& header);
+  ~TumWriter();
+  TumWriter(const TumWriter&) = delete;
+  TumWriter& operator=(const TumWriter&) = delete;
+
+  /// One pose, stamped `time` seconds.
+  void write(double time, const Eigen::Isometry3d& pose);
+  /// One pose, stamped exactly `seconds` + `nanoseconds` (no rounding through a double: a
+  /// simulator's clock).
+  void write(std::int64_t seconds, std::int64_t nanoseconds, const Eigen::Isometry3d& pose);
+  /// Closes the file and gives it its name.
+  /// \throws dlo::OutputError naming `path` if writing failed (a full disk).
+  void commit();
+
+ private:
+  void writePose(const Eigen::Isometry3d& pose);
+
+  AtomicOutput output_;
+  std::FILE* file_ = nullptr;
+};
+
+/// Writes a whole trajectory as a TUM file through TumWriter, so `path` is either complete or
+/// untouched.
 /// \throws dlo::OutputError (a std::runtime_error) naming the file if it cannot be written.
 void writeTumTrajectory(const std::string& path, const Trajectory& trajectory,
                         TumHeader header = TumHeader::kColumnNames);
