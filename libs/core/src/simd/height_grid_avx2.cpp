@@ -81,7 +81,8 @@ __attribute__((target("avx2"))) size_t mapPointsAvx2(const CellMapping& cells,
                                                      const Eigen::Vector3f* p, size_t from,
                                                      size_t n, const RowMajorPose& m,
                                                      int* __restrict__ idx, float* __restrict__ z) {
-  const float* __restrict__ q = p->data();
+  // A cast, not p->data(): with no points p may be null.
+  const float* __restrict__ q = reinterpret_cast<const float*>(p);
   const Pose8 pose(m);
   const __m256i discard = discardLanes(cells, from);
   size_t k = from;
@@ -109,7 +110,8 @@ __attribute__((target("avx2"))) size_t mapWeightedAvx2(const CellMapping& cells,
                                                        size_t n, const RowMajorPose& m,
                                                        int* __restrict__ idx, float* __restrict__ z,
                                                        std::uint32_t* __restrict__ w) {
-  const float* __restrict__ q = p->p.data();
+  // A cast, not p->p.data(): with no points p may be null.
+  const float* __restrict__ q = reinterpret_cast<const float*>(p);
   const Pose8 pose(m);
   const __m256i discard = discardLanes(cells, from);
   size_t k = from;

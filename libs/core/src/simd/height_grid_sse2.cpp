@@ -60,7 +60,8 @@ void cells4(const CellMapping& c, const Pose4& m, __m128i discard4, __m128 px, _
 
 size_t mapPointsSse2(const CellMapping& cells, const Eigen::Vector3f* p, size_t from, size_t n,
                      const RowMajorPose& m, int* __restrict__ idx, float* __restrict__ z) {
-  const float* __restrict__ q = p->data();
+  // A cast, not p->data(): with no points p may be null.
+  const float* __restrict__ q = reinterpret_cast<const float*>(p);
   const Pose4 pose(m);
   const __m128i discard4 = discardLanes(cells, from);
   size_t k = from;
@@ -89,7 +90,8 @@ size_t mapWeightedSse2(const CellMapping& cells, const WeightedPoint* p, size_t 
                        const RowMajorPose& m, int* __restrict__ idx, float* __restrict__ z,
                        std::uint32_t* __restrict__ w) {
   static_assert(sizeof(WeightedPoint) == 4 * sizeof(float), "x y z n, packed");
-  const float* __restrict__ q = p->p.data();
+  // A cast, not p->p.data(): with no points p may be null.
+  const float* __restrict__ q = reinterpret_cast<const float*>(p);
   const Pose4 pose(m);
   const __m128i discard4 = discardLanes(cells, from);
   size_t k = from;
