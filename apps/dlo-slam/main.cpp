@@ -38,6 +38,9 @@ constexpr const char* kFooter = R"(Outputs in DIR:
   map.simplemap                      keyframes with their point clouds (CSimpleMap)
   heightmap.bin, heightmap.png       CHeightGridMap2D of the whole area; colour image with the
                                      trajectory and loop closures
+  map.gridmap, map.png, map.yaml     2D occupancy grid (COccupancyGridMap2D for MRPT's
+                                     localisation and navigation; image and ROS map_server YAML):
+                                     obstacles rise more than --obstacle-height above the ground
   map.ply                            voxel-downsampled point-cloud map
   map.3Dscene, map_render.png        3D scene, and its off-screen rendering
   report.json                        ms per frame (median, p95), stages, keyframes, loops,
@@ -70,6 +73,7 @@ struct Arguments {
   double min_range = 2.0;
   double max_range = 120.0;
   long max_frames = -1;
+  double obstacle_height = dlo::OccupancyGridOptions().obstacle_height;
   bool quiet = false, dump_config = false;
 };
 
@@ -104,6 +108,10 @@ std::optional<Arguments> parseArguments(int argc, char** argv) {
       .valueName("M");
   cl.number("--max-range", a.max_range, "drop points farther than M metres").valueName("M");
   cl.wholeNumber("--max-frames", a.max_frames, "stop after N scans (-1: all)").valueName("N");
+  cl.number("--obstacle-height", a.obstacle_height,
+            "metres above the local ground from which a point makes its cell an obstacle in "
+            "map.gridmap (kerbs stay free)")
+      .valueName("M");
   cl.flag("--quiet", a.quiet, "no progress bar");
   cl.flag("--dump-config", a.dump_config,
           "print the effective configuration as INI and exit (with auto, the dense profile's)");
@@ -114,6 +122,11 @@ std::optional<Arguments> parseArguments(int argc, char** argv) {
   if (a.out.empty()) throw UsageError{"--out is required (see --help)."};
   if (!(a.min_range >= 0.0 && a.max_range > a.min_range)) {
     throw UsageError{"--min-range and --max-range must satisfy 0 <= min < max."};
+  }
+  const dlo::OccupancyGridOptions occupancy;
+  if (!(a.obstacle_height > 0.0 && a.obstacle_height < occupancy.max_height)) {
+    throw UsageError{"--obstacle-height must be above 0 and below " +
+                     std::to_string(occupancy.max_height).substr(0, 3) + " m."};
   }
   return a;
 }
@@ -234,6 +247,7 @@ int run(const Arguments& args) {
   }
   dlo::ExportOptions export_options;
   export_options.map_voxel = params.odometry.map_voxel;
+  export_options.occupancy.obstacle_height = args.obstacle_height;
   const dlo::ExportReport exported = dlo::exportAll(slam.map(), args.out, export_options);
   for (const std::string& w : exported.warnings) std::cerr << "dlo-slam: warning: " << w << "\n";
   const std::string report =

@@ -3,6 +3,7 @@
 #include <mrpt/graphs/CNetworkOfPoses.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/maps/CHeightGridMap2D.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CObservationPointCloud.h>
 #include <mrpt/opengl/COpenGLScene.h>
@@ -12,9 +13,11 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <fstream>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 
 #include "dlo/export/export_all.h"
 #include "dlo/formats/ply_file.h"
@@ -27,6 +30,20 @@ namespace fs = std::filesystem;
 using dlo::test::SyntheticWorld;
 
 namespace {
+
+/// The lowest and highest free probability of the cells within one cell of (x, y): points on
+/// the synthetic lattices fall on cell borders.
+std::pair<float, float> around(const mrpt::maps::COccupancyGridMap2D& g, double x, double y) {
+  float lo = 1.0f, hi = 0.0f;
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      const float v = g.getPos(x + dx * g.getResolution(), y + dy * g.getResolution());
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  }
+  return {lo, hi};
+}
 
 /// One export of the synthetic map shared by all tests of the suite (it is the slow part).
 class ExportAll : public ::testing::Test {
@@ -73,8 +90,9 @@ std::pair<std::string, int> run(const std::string& command) {
 
 TEST_F(ExportAll, WritesEveryFileAndNoTemporaryOnes) {
   for (const std::string& w : report_->warnings) ADD_FAILURE_AT(__FILE__, __LINE__) << w;
-  for (const char* name : {"trajectory.tum", "trajectory.kitti", "keyframes.graph", "map.simplemap",
-                           "heightmap.bin", "heightmap.png", "map.ply", "map.3Dscene"}) {
+  for (const char* name :
+       {"trajectory.tum", "trajectory.kitti", "keyframes.graph", "map.simplemap", "heightmap.bin",
+        "heightmap.png", "map.gridmap", "map.png", "map.yaml", "map.ply", "map.3Dscene"}) {
     EXPECT_TRUE(fs::is_regular_file(file(name))) << name;
     EXPECT_NE(std::find(report_->written.begin(), report_->written.end(), file(name)),
               report_->written.end())
@@ -155,6 +173,91 @@ TEST_F(ExportAll, HeightGridHasTheBoxAndTheGround) {
   // The grid covers every point plus the margin: the far side of the circle (y = 30 m) and the
   // 20 m range around it.
   EXPECT_GE(grid.getYMax(), 2 * SyntheticWorld::kRadius + 20.0);
+}
+
+TEST_F(ExportAll, OccupancyGridHasTheBoxAsObstacleAndTheGroundFree) {
+  mrpt::io::CFileGZInputStream in(file("map.gridmap"));
+  mrpt::maps::COccupancyGridMap2D grid;
+  mrpt::serialization::archiveFrom(in) >> grid;
+  EXPECT_NEAR(grid.getResolution(), 0.2, 1e-6);
+  // The box's near face (y = kBoxY - kBoxHalfSide) rises 2 m above the ground beside it.
+  const double face_y = SyntheticWorld::kBoxY - SyntheticWorld::kBoxHalfSide + 0.05;
+  EXPECT_LT(around(grid, SyntheticWorld::kBoxX, face_y).first, 0.2f);
+  EXPECT_LT(around(grid, SyntheticWorld::kBoxX + SyntheticWorld::kBoxHalfSide - 0.05,
+                   SyntheticWorld::kBoxY)
+                .first,
+            0.2f);
+  // Ground next to keyframe 0, on the 0.4 m lattice of ground points: free, and nothing near
+  // it an obstacle.
+  EXPECT_GT(around(grid, 0.0, -4.0).second, 0.8f);
+  EXPECT_GT(around(grid, 0.0, -4.0).first, 0.4f);
+  // Beyond the points (inside the margin), nothing was seen: unknown.
+  EXPECT_NEAR(grid.getPos(grid.getXMin() + 0.1, grid.getYMin() + 0.1), 0.5f, 0.01f);
+}
+
+TEST_F(ExportAll, OccupancyGridImageAndYamlDescribeTheSameGrid) {
+  mrpt::io::CFileGZInputStream in(file("map.gridmap"));
+  mrpt::maps::COccupancyGridMap2D grid;
+  mrpt::serialization::archiveFrom(in) >> grid;
+  const cv::Mat image = cv::imread(file("map.png"), cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(image.empty());
+  ASSERT_EQ(image.cols, static_cast<int>(grid.getSizeX()));
+  ASSERT_EQ(image.rows, static_cast<int>(grid.getSizeY()));
+  // Row 0 is the largest y (map_server's convention): the box face is black there.
+  // Every cell of the image is the grid's cell, black where occupied.
+  int mismatched = 0, black = 0;
+  for (int cy = 0; cy < image.rows; ++cy) {
+    for (int cx = 0; cx < image.cols; ++cx) {
+      const bool occupied = grid.getCell(cx, cy) < 0.35f;
+      const bool is_black = image.at<std::uint8_t>(image.rows - 1 - cy, cx) == 0;
+      mismatched += occupied != is_black;
+      black += is_black;
+    }
+  }
+  EXPECT_EQ(mismatched, 0);
+  EXPECT_GT(black, 40) << "the box's faces";
+  EXPECT_EQ(image.at<std::uint8_t>(0, 0), 205);  // unknown corner
+  std::ifstream yaml(file("map.yaml"));
+  std::stringstream text;
+  text << yaml.rdbuf();
+  EXPECT_NE(text.str().find("image: map.png\n"), std::string::npos) << text.str();
+  EXPECT_NE(text.str().find("resolution: 0.200000\n"), std::string::npos) << text.str();
+  char origin[128];
+  std::snprintf(origin, sizeof(origin), "origin: [%.6f, %.6f, 0.0]",
+                static_cast<double>(grid.getXMin()), static_cast<double>(grid.getYMin()));
+  EXPECT_NE(text.str().find(origin), std::string::npos) << text.str();
+}
+
+TEST(OccupancyGrid, KerbsAndSlopesStayFreeAStepAndAPoleAreObstaclesACanopyIsIgnored) {
+  dlo::WeightedCloud cloud;
+  auto add = [&](double x, double y, double z) {
+    cloud.push_back(dlo::WeightedPoint{Eigen::Vector3f(x, y, z), 1});
+  };
+  // Ground rising at 20 % along x, a 0.13 m kerb along y = 2, a 0.6 m step along y = 6, a pole
+  // at (10, 4) and a canopy 4 m up over (15, 4).
+  for (double x = 0.0; x <= 20.0; x += 0.1) {
+    for (double y = 0.0; y <= 8.0; y += 0.1) {
+      double z = 0.2 * x;
+      if (y >= 2.0) z += 0.13;
+      if (y >= 6.0) z += 0.6;
+      add(x, y, z);
+    }
+  }
+  for (double z = 0.0; z <= 3.0; z += 0.1) add(10.05, 4.05, 0.2 * 10.0 + 0.13 + z);
+  for (double x = 14.0; x <= 16.0; x += 0.1) add(x, 4.05, 0.2 * x + 0.13 + 4.0);
+  dlo::OccupancyGridOptions o;
+  dlo::OccupancyGridAccumulator acc(o);
+  acc.extend(cloud);
+  acc.ground(cloud);
+  acc.classify(cloud);
+  const mrpt::maps::COccupancyGridMap2D g = acc.grid();
+  EXPECT_GT(g.getPos(5.05, 1.05), 0.8f) << "sloped ground";
+  EXPECT_GT(g.getPos(5.05, 2.05), 0.8f) << "the kerb";
+  EXPECT_GT(g.getPos(18.05, 4.05), 0.8f) << "steep ground far up the slope";
+  EXPECT_LT(g.getPos(5.05, 6.05), 0.2f) << "the step";
+  EXPECT_LT(g.getPos(10.05, 4.05), 0.2f) << "the pole";
+  EXPECT_GT(g.getPos(15.05, 4.05), 0.8f) << "under the canopy";
+  EXPECT_NEAR(g.getPos(-1.0, -1.0), 0.5f, 0.01f) << "the margin, unseen";
 }
 
 TEST_F(ExportAll, PlyMapIsInTheWorldFrameAndDecimated) {

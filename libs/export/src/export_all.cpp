@@ -75,6 +75,19 @@ ExportReport exportAll(const SlamMap& map, const std::string& dir, const ExportO
   run("heightmap.png",
       [&](const std::string& p) { writePng(renderHeightMapImage(grid, map, options.image), p); });
 
+  // The occupancy grid: bounds, each cell's lowest point, then what rises above the ground.
+  OccupancyGridAccumulator occupancy(options.occupancy);
+  forEachWorldCloud(map, [&](const WeightedCloud& c) { occupancy.extend(c); });
+  forEachWorldCloud(map, [&](const WeightedCloud& c) { occupancy.ground(c); });
+  forEachWorldCloud(map, [&](const WeightedCloud& c) { occupancy.classify(c); });
+  try {
+    for (const std::string& p :
+         exportOccupancyGrid(occupancy.grid(), (fs::path(dir) / "map").string()))
+      report.written.push_back(p);
+  } catch (const std::exception& e) {
+    report.warnings.push_back(e.what());
+  }
+
   run("map.ply", [&](const std::string& p) { exportPly(cloud, p); });
   const auto scene = buildMapScene(map, cloud, options.scene);
   run("map.3Dscene", [&](const std::string& p) { exportScene(*scene, p); });

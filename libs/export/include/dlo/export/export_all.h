@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "dlo/export/height_map_image.h"
+#include "dlo/export/occupancy_grid_export.h"
 #include "dlo/export/scene_export.h"
 #include "dlo/slam/slam_map.h"
 
@@ -18,6 +19,7 @@ struct ExportOptions {
   double map_voxel = 0.2;             ///< metres; voxel of map.ply and the points of map.3Dscene
   bool render = true;                 ///< also render map_render.png (needs EGL)
   HeightMapImageOptions image;        ///< heightmap.png
+  OccupancyGridOptions occupancy;     ///< map.gridmap, map.png, map.yaml
   SceneOptions scene;                 ///< map.3Dscene and map_render.png
 };
 
@@ -28,7 +30,8 @@ struct ExportReport {
 };
 
 /// Writes into the existing folder `dir`: trajectory.tum, trajectory.kitti, keyframes.graph,
-/// map.simplemap, heightmap.bin, heightmap.png, map.ply, map.3Dscene and (with options.render)
+/// map.simplemap, heightmap.bin, heightmap.png, the occupancy grid (map.gridmap, map.png,
+/// map.yaml: exportOccupancyGrid()), map.ply, map.3Dscene and (with options.render)
 /// map_render.png. Each file is written atomically; a file that fails (e.g. rendering without
 /// EGL) becomes a warning and does not prevent the others.
 /// \throws OutputError naming `dir` if it does not exist or is not writable (nothing is written).
