@@ -228,6 +228,36 @@ TEST_F(ExportAll, OccupancyGridImageAndYamlDescribeTheSameGrid) {
   EXPECT_NE(text.str().find(origin), std::string::npos) << text.str();
 }
 
+TEST_F(ExportAll, MrptsRosMapConverterRebuildsTheGridmapFromThePngAndYaml) {
+  // MRPT's own reader of ROS maps, given map.yaml and map.png, must make the very grid of
+  // map.gridmap: the image's orientation, the origin and the resolution agree.
+  if (!fs::exists("/usr/bin/ros-map-yaml2mrpt"))
+    GTEST_SKIP() << "ros-map-yaml2mrpt (apt mrpt-apps) missing";
+  const fs::path converted = folder_->path() / "converted";
+  fs::create_directories(converted);
+  const auto [out, status] =
+      run("/usr/bin/ros-map-yaml2mrpt -q -w -i " + file("map.yaml") + " -d " + converted.string());
+  ASSERT_EQ(status, 0) << out;
+  mrpt::maps::COccupancyGridMap2D ours, theirs;
+  {
+    mrpt::io::CFileGZInputStream in(file("map.gridmap"));
+    mrpt::serialization::archiveFrom(in) >> ours;
+  }
+  {
+    mrpt::io::CFileGZInputStream in((converted / "map.gridmap.gz").string());
+    mrpt::serialization::archiveFrom(in) >> theirs;
+  }
+  ASSERT_EQ(ours.getSizeX(), theirs.getSizeX());
+  ASSERT_EQ(ours.getSizeY(), theirs.getSizeY());
+  EXPECT_NEAR(ours.getXMin(), theirs.getXMin(), 1e-4);
+  EXPECT_NEAR(ours.getYMin(), theirs.getYMin(), 1e-4);
+  int differ = 0;
+  for (unsigned cy = 0; cy < ours.getSizeY(); ++cy)
+    for (unsigned cx = 0; cx < ours.getSizeX(); ++cx)
+      differ += std::abs(ours.getCell(cx, cy) - theirs.getCell(cx, cy)) > 0.1f;
+  EXPECT_EQ(differ, 0);
+}
+
 TEST(OccupancyGrid, KerbsAndSlopesStayFreeAStepAndAPoleAreObstaclesACanopyIsIgnored) {
   dlo::WeightedCloud cloud;
   auto add = [&](double x, double y, double z) {
