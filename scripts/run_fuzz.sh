@@ -6,7 +6,7 @@
 # crash, hang, leak, out-of-memory or broken error contract. Part of scripts/run_tests.sh
 # (DLO_SKIP_FUZZ=1 skips it there).
 #
-#   DLO_FUZZ_RUNS     executions per target (default 20000)
+#   DLO_FUZZ_RUNS     executions per target (default 10000)
 #   DLO_FUZZ_SEED     libFuzzer's random seed (default 1, so that CI runs are reproducible;
 #                     0 picks a new one each run)
 #   DLO_FUZZ_TARGETS  targets to run (default: all), e.g. "ply config"
@@ -15,7 +15,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 start=$SECONDS
 
-runs=${DLO_FUZZ_RUNS:-20000}
+runs=${DLO_FUZZ_RUNS:-10000}
 seed=${DLO_FUZZ_SEED:-1}
 targets=${DLO_FUZZ_TARGETS:-rawlog kitti_bin ply config pcap}
 shared=$(cd ../shared/data && pwd)
