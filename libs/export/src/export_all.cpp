@@ -56,12 +56,19 @@ ExportReport exportAll(const SlamMap& map, const std::string& dir, const ExportO
   // and the map cloud are fed one keyframe at a time (bounds first, then sums and voxels), so a
   // long run's export holds one keyframe cloud and the merged voxels, not every keyframe.
   HeightGridAccumulator heights(options.heightmap_resolution, options.heightmap_margin);
-  forEachWorldCloud(map, [&](const WeightedCloud& c) { heights.extend(c); });
+  // The occupancy grid takes the same passes: bounds, each cell's lowest point, then (a third)
+  // what rises above the ground.
+  OccupancyGridAccumulator occupancy(options.occupancy);
+  forEachWorldCloud(map, [&](const WeightedCloud& c) {
+    heights.extend(c);
+    occupancy.extend(c);
+  });
   std::optional<VoxelMerger> voxels;
   if (options.map_voxel > 0.0) voxels.emplace(options.map_voxel);
   WeightedCloud cloud;  // undecimated map when map_voxel <= 0
   forEachWorldCloud(map, [&](const WeightedCloud& c) {
     heights.add(c);
+    occupancy.ground(c);
     if (voxels) {
       voxels->add(c);
     } else {
@@ -75,10 +82,6 @@ ExportReport exportAll(const SlamMap& map, const std::string& dir, const ExportO
   run("heightmap.png",
       [&](const std::string& p) { writePng(renderHeightMapImage(grid, map, options.image), p); });
 
-  // The occupancy grid: bounds, each cell's lowest point, then what rises above the ground.
-  OccupancyGridAccumulator occupancy(options.occupancy);
-  forEachWorldCloud(map, [&](const WeightedCloud& c) { occupancy.extend(c); });
-  forEachWorldCloud(map, [&](const WeightedCloud& c) { occupancy.ground(c); });
   forEachWorldCloud(map, [&](const WeightedCloud& c) { occupancy.classify(c); });
   try {
     for (const std::string& p :

@@ -81,11 +81,15 @@ mrpt::maps::CHeightGridMap2D toHeightGridMap(const WeightedCloud& world_points, 
 }
 
 void exportHeightGridMap(const mrpt::maps::CHeightGridMap2D& grid, const std::string& path) {
+  exportSerializedGz(grid, path);
+}
+
+void exportSerializedGz(const mrpt::serialization::CSerializable& object, const std::string& path) {
   writeAtomically(path, [&](const std::string& temp) {
     mrpt::io::CFileGZOutputStream out;
     if (!out.open(temp)) throw std::runtime_error("cannot create '" + temp + "'");
     auto archive = mrpt::serialization::archiveFrom(out);
-    archive << grid;
+    archive << object;
     out.close();
   });
 }

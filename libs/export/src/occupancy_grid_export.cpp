@@ -1,8 +1,5 @@
 #include "dlo/export/occupancy_grid_export.h"
 
-#include <mrpt/io/CFileGZOutputStream.h>
-#include <mrpt/serialization/CArchive.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +7,7 @@
 #include <opencv2/core.hpp>
 #include <stdexcept>
 
+#include "dlo/export/height_map_export.h"
 #include "dlo/files/atomic_file.h"
 #include "dlo/formats/png_file.h"
 
@@ -146,13 +144,7 @@ std::vector<std::string> exportOccupancyGrid(const mrpt::maps::COccupancyGridMap
                                              const std::string& stem) {
   std::vector<std::string> written;
   const std::string gridmap = stem + ".gridmap";
-  writeAtomically(gridmap, [&](const std::string& temp) {
-    mrpt::io::CFileGZOutputStream out;
-    if (!out.open(temp)) throw std::runtime_error("cannot create '" + temp + "'");
-    auto archive = mrpt::serialization::archiveFrom(out);
-    archive << grid;
-    out.close();
-  });
+  exportSerializedGz(grid, gridmap);
   written.push_back(gridmap);
 
   // map_server's convention: 0 (black) occupied, 254 free, 205 unknown; row 0 is the top, the

@@ -53,4 +53,8 @@ class HeightGridAccumulator {
 /// \throws OutputError naming `path`.
 void exportHeightGridMap(const mrpt::maps::CHeightGridMap2D& grid, const std::string& path);
 
+/// Writes `object` MRPT-serialised and gzip-compressed (what MRPT's tools read for .gridmap and
+/// heightmap files), atomically. \throws OutputError naming `path`.
+void exportSerializedGz(const mrpt::serialization::CSerializable& object, const std::string& path);
+
 }  // namespace dlo
