@@ -2,6 +2,7 @@
 // capture, with GUI-free map export. The pipeline lives in libs/slam; this file parses the
 // command line, streams the input, and reports.
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <iostream>
@@ -13,6 +14,8 @@
 #include "dlo/app/app_main.h"
 #include "dlo/app/program_options.h"
 #include "dlo/app/progress_bar.h"
+#include "dlo/core/deskew.h"
+#include "dlo/export/annotated_rawlog.h"
 #include "dlo/export/export_all.h"
 #include "dlo/files/atomic_file.h"
 #include "dlo/files/error.h"
@@ -20,6 +23,7 @@
 #include "dlo/mrpt/kitti_scan_source.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 #include "dlo/mrpt/velodyne_pcap_reader.h"
+#include "dlo/slam/lidar_odometry.h"
 #include "dlo/slam/sensor_profile.h"
 #include "dlo/slam/slam_config.h"
 #include "dlo/slam/slam_pipeline.h"
@@ -43,6 +47,10 @@ constexpr const char* kFooter = R"(Outputs in DIR:
                                      obstacles rise more than --obstacle-height above the ground
   map.ply                            voxel-downsampled point-cloud map
   map.3Dscene, map_render.png        3D scene, and its off-screen rendering
+  --rawlog-out FILE                  the input's scans again, with the estimated motion between
+                                     them: (action, sensory frame) pairs for MRPT's tools, each
+                                     frame with the scan's observation and an emulated 2D laser
+                                     scan of the obstacles map.gridmap marks
   report.json                        ms per frame (median, p95), stages, keyframes, loops,
                                      degenerate frames, peak memory, configuration, and with
                                      --gt: ATE and KITTI drift before and after loop closure
@@ -68,7 +76,7 @@ void onSignal(int) {
 using dlo::UsageError;
 
 struct Arguments {
-  std::string input, out, config, gt, model, sensor_label, sensor_profile = "auto";
+  std::string input, out, config, gt, model, sensor_label, sensor_profile = "auto", rawlog_out;
   std::vector<std::string> sets;
   double min_range = 2.0;
   double max_range = 120.0;
@@ -112,6 +120,10 @@ std::optional<Arguments> parseArguments(int argc, char** argv) {
             "metres above the local ground from which a point makes its cell an obstacle in "
             "map.gridmap (kerbs stay free)")
       .valueName("M");
+  cl.text("--rawlog-out", a.rawlog_out,
+          "also write the scans as an annotated rawlog: the estimated motion as actions, each "
+          "scan's observation and an emulated 2D laser scan (see Outputs); .gz compresses it")
+      .valueName("FILE");
   cl.flag("--quiet", a.quiet, "no progress bar");
   cl.flag("--dump-config", a.dump_config,
           "print the effective configuration as INI and exit (with auto, the dense profile's)");
@@ -146,6 +158,45 @@ std::unique_ptr<dlo::ScanSource> openSource(const Arguments& a) {
     return std::make_unique<dlo::KittiScanSource>(a.input, options);
   }
   return std::make_unique<dlo::RawlogScanSource>(a.input, options);
+}
+
+/// The velocity (body twist per second) of frame i of `map`, from its final pose and its
+/// neighbour's (the next one's for the first frame); zero where the interval is not 0-1 s.
+dlo::Vector6d frameVelocity(const dlo::SlamMap& map, size_t i) {
+  if (map.frames.size() < 2) return dlo::Vector6d::Zero();
+  const size_t a = i == 0 ? 0 : i - 1, b = i == 0 ? 1 : i;
+  const double dt = map.frames[b].time - map.frames[a].time;
+  if (!(dt > 0.0 && dt < 1.0)) return dlo::Vector6d::Zero();
+  return dlo::logSE3(map.framePose(a).inverse() * map.framePose(b)) / dt;
+}
+
+/// Reads the input again and writes its first map.frames.size() scans, each at its final pose
+/// and deskewed with the motion there, into args.rawlog_out.
+void writeAnnotatedRawlog(const Arguments& args, const dlo::SlamParams& params,
+                          const dlo::SlamMap& map) {
+  std::unique_ptr<dlo::ScanSource> source = openSource(args);
+  dlo::Emulated2DScanOptions options;
+  options.obstacles.obstacle_height = args.obstacle_height;
+  dlo::AnnotatedRawlogWriter writer(args.rawlog_out, options);
+  dlo::ProgressBar bar(map.frames.size(), "scans to " + args.rawlog_out, !args.quiet);
+  dlo::TimedScan scan;
+  std::vector<float> times;
+  for (size_t i = 0; i < map.frames.size(); ++i) {
+    if (!source->next(scan) || std::abs(scan.timestampSeconds() - map.frames[i].time) > 1e-6) {
+      throw dlo::InputError("input '" + args.input + "' did not give the same scans when read " +
+                            "again for --rawlog-out (scan " + std::to_string(i) + "); the " +
+                            std::to_string(writer.count()) + " written are kept in '" +
+                            writer.partialPath() + "'.");
+    }
+    dlo::PointTimeSource source;
+    const std::vector<float>& t =
+        dlo::pointTimesFor(scan.points, scan.point_times, params.odometry, times, source);
+    writer.write(scan, map.framePose(i),
+                 t.empty() ? scan.points : dlo::deskew(scan.points, t, frameVelocity(map, i)));
+    bar.update(i + 1);
+  }
+  writer.commit();
+  bar.finish(map.frames.size());
 }
 
 int run(const Arguments& args) {
@@ -250,6 +301,7 @@ int run(const Arguments& args) {
   export_options.occupancy.obstacle_height = args.obstacle_height;
   const dlo::ExportReport exported = dlo::exportAll(slam.map(), args.out, export_options);
   for (const std::string& w : exported.warnings) std::cerr << "dlo-slam: warning: " << w << "\n";
+  if (!args.rawlog_out.empty()) writeAnnotatedRawlog(args, slam.params(), slam.map());
   const std::string report =
       dlo::slamReportJson(slam, args.input, profile, dlo::slamParamsToIni(slam.params()), accuracy,
                           interrupted, input_error);

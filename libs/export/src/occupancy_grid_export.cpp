@@ -114,6 +114,15 @@ void OccupancyGridAccumulator::classify(const WeightedCloud& world_points) {
   }
 }
 
+float OccupancyGridAccumulator::heightAboveGround(float x, float y, float z) {
+  allocate();
+  if (local_ground_.empty() && !lowest_.empty()) computeLocalGround();
+  int cx = 0, cy = 0;
+  if (!cellOf(x, y, cx, cy)) return std::numeric_limits<float>::quiet_NaN();
+  const float ground = local_ground_[static_cast<size_t>(cy) * cols_ + cx];
+  return ground == kNoPoint ? std::numeric_limits<float>::quiet_NaN() : z - ground;
+}
+
 mrpt::maps::COccupancyGridMap2D OccupancyGridAccumulator::grid() const {
   mrpt::maps::COccupancyGridMap2D g;
   const float res = static_cast<float>(options_.resolution);

@@ -168,7 +168,10 @@ bool RawlogScanSource::next(TimedScan& scan) {
     const auto obs = nextObservation();
     if (!obs) return false;
     scan.entry_index = object_index_;  // observations of a sensory frame share its entry
-    if (admitObservation(*obs, options_, scan, stats_)) return true;
+    if (admitObservation(*obs, options_, scan, stats_)) {
+      scan.observation = obs;
+      return true;
+    }
   }
 }
 

@@ -32,8 +32,8 @@ RawlogWriter::~RawlogWriter() {
   out_.reset();
 }
 
-void RawlogWriter::write(const mrpt::obs::CObservation& obs) {
-  archive_->WriteObject(&obs);
+void RawlogWriter::write(const mrpt::serialization::CSerializable& entry) {
+  archive_->WriteObject(&entry);
   ++count_;
   output_.setKeepPartial(true);
 }

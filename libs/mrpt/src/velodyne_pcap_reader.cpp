@@ -133,7 +133,10 @@ bool VelodynePcapScanSource::next(TimedScan& scan) {
     const auto obs = reader_.next();
     if (!obs) return false;
     scan.entry_index = stats_.entries_read++;
-    if (admitObservation(*obs, options_, scan, stats_)) return true;
+    if (admitObservation(*obs, options_, scan, stats_)) {
+      scan.observation = obs;
+      return true;
+    }
   }
 }
 

@@ -666,11 +666,17 @@ double LidarOdometry::deviation(const Eigen::Isometry3d& a, const Eigen::Isometr
 const std::vector<float>& LidarOdometry::sweepTimes(const PointCloud& points,
                                                     const std::vector<float>& measured,
                                                     OdometryStep& step) {
+  return pointTimesFor(points, measured, params_.odometry, estimated_times_, step.point_times);
+}
+
+const std::vector<float>& pointTimesFor(const PointCloud& points,
+                                        const std::vector<float>& measured, const OdometryParams& o,
+                                        std::vector<float>& buffer, PointTimeSource& source) {
   static const std::vector<float> kNoTimes;
-  const OdometryParams& o = params_.odometry;
+  source = PointTimeSource::kNone;
   if (o.deskew == 0 || points.empty()) return kNoTimes;
   if (measured.size() == points.size()) {
-    step.point_times = PointTimeSource::kMeasured;
+    source = PointTimeSource::kMeasured;
     return measured;
   }
   if (o.estimate_times == 0) return kNoTimes;
@@ -679,9 +685,9 @@ const std::vector<float>& LidarOdometry::sweepTimes(const PointCloud& points,
   timing.direction = o.sweep_direction;
   timing.start_azimuth_deg = o.sweep_start_azimuth;
   timing.stamp_phase = o.sweep_stamp;
-  const SweepTimingEstimate e = estimateSweepTimes(points, timing, estimated_times_);
-  step.point_times = e.from_order ? PointTimeSource::kFromOrder : PointTimeSource::kFromParams;
-  return estimated_times_;
+  const SweepTimingEstimate e = estimateSweepTimes(points, timing, buffer);
+  source = e.from_order ? PointTimeSource::kFromOrder : PointTimeSource::kFromParams;
+  return buffer;
 }
 
 bool LidarOdometry::disagrees(const Eigen::Isometry3d& predicted,

@@ -46,6 +46,10 @@ class OccupancyGridAccumulator {
   void ground(const WeightedCloud& world_points);
   /// Pass 3: counts, per cell, points on the ground and points of obstacles.
   void classify(const WeightedCloud& world_points);
+  /// After ground() with every cloud: how far `z` lies above the local ground at (x, y), as
+  /// classify() judges it; NaN outside the grid or where no ground was seen within
+  /// ground_radius.
+  float heightAboveGround(float x, float y, float z);
   /// The grid (empty, 1 x 1 unknown cell, when no point was seen).
   mrpt::maps::COccupancyGridMap2D grid() const;
 

@@ -1,10 +1,11 @@
 /// \file rawlog_writer.h
-/// \brief Writing an observation-only MRPT rawlog safely: to a temporary file, renamed at the end.
+/// \brief Writing an MRPT rawlog safely: to a temporary file, renamed at the end.
 #pragma once
 
 #include <mrpt/io/CStream.h>
 #include <mrpt/obs/CObservation.h>
 #include <mrpt/serialization/CArchive.h>
+#include <mrpt/serialization/CSerializable.h>
 #include <memory>
 #include <string>
 
@@ -12,9 +13,10 @@
 
 namespace dlo {
 
-/// Streams observations into `path` (observation-only layout; gzip-compressed if the name ends in
-/// `.gz`). They go to `path + ".tmp"` first and commit() renames it, so an existing `path` is
-/// never replaced by a half-written file. If the writer is destroyed without commit() (an error
+/// Streams entries into `path`: observations (the observation-only layout), or actions and sensory
+/// frames in turn (the (CActionCollection, CSensoryFrame) layout); gzip-compressed if the name
+/// ends in `.gz`. They go to `path + ".tmp"` first and commit() renames it, so an existing `path`
+/// is never replaced by a half-written file. If the writer is destroyed without commit() (an error
 /// part way), whatever was written is kept as `path + ".partial"` rather than lost.
 class RawlogWriter {
  public:
@@ -24,16 +26,16 @@ class RawlogWriter {
   RawlogWriter(const RawlogWriter&) = delete;
   RawlogWriter& operator=(const RawlogWriter&) = delete;
 
-  /// Appends one observation.
-  void write(const mrpt::obs::CObservation& obs);
+  /// Appends one entry: an observation, an action collection or a sensory frame.
+  void write(const mrpt::serialization::CSerializable& entry);
 
-  /// Observations written so far.
+  /// Entries written so far.
   size_t count() const { return count_; }
 
   /// Closes the file and renames it to the final path. \throws OutputError if renaming fails.
   void commit();
 
-  /// Where the observations written so far are kept if commit() is never called.
+  /// Where the entries written so far are kept if commit() is never called.
   std::string partialPath() const { return output_.partialPath(); }
 
  private:

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <mrpt/core/Clock.h>
+#include <mrpt/obs/CObservation.h>
 
 #include <Eigen/Geometry>
 #include <cstddef>
@@ -47,6 +48,9 @@ struct TimedScan {
   /// frames; pcap: scan number), for messages that point into the file.
   size_t entry_index = 0;
 
+  /// The observation the scan was made from, as the input stores it (null where the input is
+  /// not MRPT observations: KITTI files): what an annotated rawlog writes back.
+  mrpt::obs::CObservation::Ptr observation;
   /// `timestamp` as seconds since the Unix epoch (MRPT's double time convention).
   double timestampSeconds() const { return mrpt::Clock::toDouble(timestamp); }
 };

@@ -38,6 +38,14 @@ enum class PointTimeSource {
   kFromParams  ///< estimated from azimuths, start and spin direction from odometry.sweep_*
 };
 
+/// The per-point times to deskew `points` with, as the odometry takes them: `measured` when it
+/// has one per point, else (params.estimate_times) estimated from the azimuths into `buffer`;
+/// empty when params.deskew is off or `points` is. `source` says which.
+const std::vector<float>& pointTimesFor(const PointCloud& points,
+                                        const std::vector<float>& measured,
+                                        const OdometryParams& params, std::vector<float>& buffer,
+                                        PointTimeSource& source);
+
 /// The outcome of one scan.
 struct OdometryStep {
   /// Pose of the vehicle at the scan's reference time in the odometry frame (the first scan's
