@@ -52,6 +52,7 @@ struct Arguments {
   int frames = 300;
   dlo::sim::SensorType sensor = dlo::sim::SensorType::HDL64;
   uint32_t seed = 1;
+  uint32_t traffic_seed = 0;  // 0: the cars and the noise from `seed`
   int threads = 2;
   double corner_transition = 8.0;
   bool patrol = false;
@@ -96,8 +97,8 @@ double parseNumber(const std::string& name, const std::string& text, double lo, 
 std::optional<Arguments> parseArguments(int argc, char** argv) {
   Arguments a;
   // The numbers are read here, not by the parser, for their ranges and messages.
-  std::string frames, sensor, seed, corner_transition, speed, turn_rate, hills, sweep_start, spin,
-      threads;
+  std::string frames, sensor, seed, traffic_seed, corner_transition, speed, turn_rate, hills,
+      sweep_start, spin, threads;
   dlo::ProgramOptions cl("dlo-simulate", kDescription);
   cl.text("--out", a.out, "output folder (created if missing)").valueName("DIR").required();
   cl.text("--frames", frames, "number of sweeps, 10 per second").valueName("N").defaultText("300");
@@ -109,6 +110,11 @@ std::optional<Arguments> parseArguments(int argc, char** argv) {
   cl.text("--seed", seed, "world and noise seed; the same seed gives byte-identical files")
       .valueName("S")
       .defaultText("1");
+  cl.text("--traffic-seed", traffic_seed,
+          "another day in the same town: the parked and moving cars and the sensor noise from T, "
+          "the streets, buildings, trees and poles from --seed (the town only; for localising a "
+          "drive on a map of another)")
+      .valueName("T");
   cl.text("--corner-transition", corner_transition,
           "metres of clothoid over which each corner's curvature ramps up and down; 0 makes "
           "circular corners, whose yaw rate steps from zero to about 34 deg/s and back within a "
@@ -172,6 +178,11 @@ std::optional<Arguments> parseArguments(int argc, char** argv) {
     a.seed = static_cast<uint32_t>(
         parseInteger("--seed", seed, 0, 4294967295L, "an integer in [0, 4294967295]"));
   }
+  if (cl.given("--traffic-seed")) {
+    a.traffic_seed = static_cast<uint32_t>(parseInteger(
+        "--traffic-seed", traffic_seed, 1, 4294967295L, "an integer in [1, 4294967295]"));
+    if (a.open_road) throw UsageError{"--traffic-seed applies to the town, not --open-road."};
+  }
   if (cl.given("--corner-transition")) {
     a.corner_transition = parseNumber("--corner-transition", corner_transition, 0.0, 15.0,
                                       "a number of metres in [0, 15]");
@@ -225,6 +236,7 @@ int run(const Arguments& a) {
   dlo::sim::WorldParams town;
   dlo::sim::OpenRoadParams road;
   town.maxGrade = road.maxGrade = a.hills;
+  town.trafficSeed = a.traffic_seed;
   const auto world = a.open_road ? dlo::sim::ProceduralWorld::generateOpenRoad(a.seed, road)
                                  : dlo::sim::ProceduralWorld::generate(a.seed, town);
   const Eigen::Vector2d lo = a.open_road ? road.loopMin : town.loopMin;
@@ -240,7 +252,7 @@ int run(const Arguments& a) {
   params.model = dlo::sim::makeLidarModel(a.sensor);
   params.model.sweepStartDeg = a.sweep_start;
   params.model.spinDirection = a.spin;
-  params.seed = a.seed;
+  params.seed = a.traffic_seed != 0 ? a.traffic_seed : a.seed;
   params.threads = a.threads;
   const dlo::sim::SweepSimulator simulator(world, trajectory, params);
 

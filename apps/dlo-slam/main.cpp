@@ -21,8 +21,7 @@
 #include "dlo/files/error.h"
 #include "dlo/metrics/trajectory_io.h"
 #include "dlo/mrpt/kitti_scan_source.h"
-#include "dlo/mrpt/rawlog_scan_source.h"
-#include "dlo/mrpt/velodyne_pcap_reader.h"
+#include "dlo/mrpt/open_scan_source.h"
 #include "dlo/slam/lidar_odometry.h"
 #include "dlo/slam/sensor_profile.h"
 #include "dlo/slam/slam_config.h"
@@ -148,16 +147,7 @@ std::unique_ptr<dlo::ScanSource> openSource(const Arguments& a) {
   options.min_range = a.min_range;
   options.max_range = a.max_range;
   options.sensor_label = a.sensor_label;
-  const std::string ext = std::filesystem::path(a.input).extension().string();
-  if (ext == ".pcap") {
-    if (a.model.empty()) throw UsageError{"reading a .pcap needs --model VLP16|HDL32|HDL64."};
-    return std::make_unique<dlo::VelodynePcapScanSource>(a.input, dlo::parseVelodyneModel(a.model),
-                                                         options);
-  }
-  if (std::filesystem::is_directory(a.input)) {
-    return std::make_unique<dlo::KittiScanSource>(a.input, options);
-  }
-  return std::make_unique<dlo::RawlogScanSource>(a.input, options);
+  return dlo::openScanSource(a.input, a.model, options);
 }
 
 /// The velocity (body twist per second) of frame i of `map`, from its final pose and its

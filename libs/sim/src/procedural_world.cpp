@@ -202,8 +202,12 @@ ProceduralWorld ProceduralWorld::generate(uint32_t seed, const WorldParams& p) {
     }
   }
 
-  // Along every road: trees and poles on the sidewalks, parked cars at the kerbs.
+  // Along every road: trees and poles on the sidewalks, parked cars at the kerbs. With a
+  // traffic seed of its own, the cars are drawn from that stream; the town's stream is still
+  // drawn exactly as without it, so that every other object stays where it was.
   std::vector<MovingCar> moving;
+  DeterministicRng traffic({p.trafficSeed, 0x54524146u});  // "TRAF"
+  const bool ownTraffic = p.trafficSeed != 0;
   const auto loopRoad = [&](bool alongX, double line) {
     return alongX ? (line == p.loopMin.y() || line == p.loopMax.y())
                   : (line == p.loopMin.x() || line == p.loopMax.x());
@@ -230,14 +234,19 @@ ProceduralWorld ProceduralWorld::generate(uint32_t seed, const WorldParams& p) {
           if (!nearAny(s, crossing, w + 1.0)) b.pole(at(s, side * (w + 0.5)));
         }
         if (isLoop && side != inside) continue;
-        for (double s = from; s < to; s += rng.uniform(6.5, 9.0)) {
-          if (nearAny(s, crossing, w + 9.0) || !rng.bernoulli(0.35)) continue;
-          const Eigen::Vector2d c = at(s, side * (w - 1.0));
-          const double yaw =
-              (alongX ? 0.0 : M_PI / 2) + (side > 0 ? 0.0 : M_PI) + rng.uniform(-0.04, 0.04);
-          appendCarPrimitives(Eigen::Vector3d(c.x(), c.y(), terrain.heightAt(c.x(), c.y())), yaw,
-                              SurfaceClass::Car, b.out);
-        }
+        const auto parkCars = [&](DeterministicRng& r, bool place) {
+          for (double s = from; s < to; s += r.uniform(6.5, 9.0)) {
+            if (nearAny(s, crossing, w + 9.0) || !r.bernoulli(0.35)) continue;
+            const Eigen::Vector2d c = at(s, side * (w - 1.0));
+            const double yaw =
+                (alongX ? 0.0 : M_PI / 2) + (side > 0 ? 0.0 : M_PI) + r.uniform(-0.04, 0.04);
+            if (!place) continue;
+            appendCarPrimitives(Eigen::Vector3d(c.x(), c.y(), terrain.heightAt(c.x(), c.y())), yaw,
+                                SurfaceClass::Car, b.out);
+          }
+        };
+        parkCars(rng, !ownTraffic);
+        if (ownTraffic) parkCars(traffic, true);
       }
       // Two moving cars per road, one per lane; on loop roads a single one on the outer lane,
       // clear of the vehicle's path.
@@ -247,8 +256,13 @@ ProceduralWorld ProceduralWorld::generate(uint32_t seed, const WorldParams& p) {
         const Eigen::Vector2d u =
             alongX ? Eigen::Vector2d(dirSign, 0) : Eigen::Vector2d(0, dirSign);
         const Eigen::Vector2d start = dirSign > 0 ? at(from, offset) : at(to, offset);
-        moving.push_back(
-            {start, u, to - from, rng.uniform(6.0, 12.0), rng.uniform(0.0, to - from)});
+        const double speed = rng.uniform(6.0, 12.0), phase = rng.uniform(0.0, to - from);
+        if (ownTraffic) {
+          moving.push_back(
+              {start, u, to - from, traffic.uniform(6.0, 12.0), traffic.uniform(0.0, to - from)});
+        } else {
+          moving.push_back({start, u, to - from, speed, phase});
+        }
       }
     }
   }

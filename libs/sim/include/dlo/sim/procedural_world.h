@@ -26,6 +26,10 @@ struct WorldParams {
   /// and comes close to it on the loop's straights, with crests and dips (see steepHills()).
   double maxGrade = 0.0;
   double objectCellSize = 4.0;  ///< Cell of the object grid.
+  /// 0: the parked and moving cars come with the town's seed. Otherwise they are drawn from this
+  /// seed instead, and the rest of the town (ground, buildings, trees, poles, bushes) stays the
+  /// seed's: another day in the same streets, for localising on a map of the first.
+  uint32_t trafficSeed = 0;
 };
 
 /// Layout of the open road: long roads through open land with little beside them; metres.

@@ -1,0 +1,271 @@
+// dlo-localize: localises a drive on a map that dlo-slam made. The localisation lives in
+// libs/slam (dlo::Localizer); this file parses the command line, streams the input and reports.
+#include <atomic>
+#include <cmath>
+#include <csignal>
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "dlo/app/app_main.h"
+#include "dlo/app/program_options.h"
+#include "dlo/app/progress_bar.h"
+#include "dlo/core/rigid_transform.h"
+#include "dlo/files/atomic_file.h"
+#include "dlo/files/error.h"
+#include "dlo/metrics/timestamp_matching.h"
+#include "dlo/metrics/trajectory_io.h"
+#include "dlo/mrpt/open_scan_source.h"
+#include "dlo/slam/localizer.h"
+#include "dlo/slam/sensor_profile.h"
+
+namespace {
+
+constexpr const char* kDescription =
+    "Localises the LiDAR scans of IN on a map that dlo-slam made (its output folder MAP): with no "
+    "--init, a search over the whole map finds the start; then every scan is registered against "
+    "the map around its predicted pose, and a search runs again whenever the vehicle is lost.";
+
+constexpr const char* kFooter = R"(Outputs in DIR (each file atomically):
+  trajectory.tum     the localised scans' poses in the map's frame (scans not localised are left
+                     out)
+  localization.csv   one line per scan: time, localised, searched, found, confidence (0-1), RMS
+                     height error, inlier fraction, x, y, z, yaw (deg), ms
+  report.json        ms per scan (median, p95), fraction of scans localised, re-localisations,
+                     scans and seconds to the first fix, and with --gt the position error
+  localization.png   the map from above with the path: green localised, red predicted
+
+Input: as dlo-slam's (a rawlog, a Velodyne .pcap with --model, or a KITTI folder).
+SIGINT or SIGTERM stops after the current scan and writes the outputs (exit status 3).
+Exit status: 0 on success, 1 for a bad input file or parameter, 2 for a command-line error,
+3 when interrupted; errors are one line on stderr starting with "dlo-localize: ".)";
+
+std::atomic<bool> g_stop{false};
+void onSignal(int) {
+  g_stop = true;
+}
+
+using dlo::UsageError;
+using Json = nlohmann::ordered_json;
+
+struct Arguments {
+  std::string map, input, out, init, gt, config, model, sensor_label, sensor_profile = "auto";
+  std::vector<std::string> sets;
+  double min_range = 2.0, max_range = 120.0;
+  long max_frames = -1;
+  bool quiet = false;
+  std::optional<Eigen::Isometry3d> initial_pose;
+};
+
+std::optional<Arguments> parseArguments(int argc, char** argv) {
+  Arguments a;
+  dlo::ProgramOptions cl("dlo-localize", kDescription);
+  cl.text("--map", a.map, "a dlo-slam output folder (its map.simplemap is read)")
+      .valueName("MAP")
+      .required();
+  cl.text("--input", a.input, "the drive to localise: a rawlog, a Velodyne .pcap or a KITTI folder")
+      .valueName("IN")
+      .required();
+  cl.text("--out", a.out, "output folder (created if needed)").valueName("DIR").required();
+  cl.text("--init", a.init,
+          "the first scan's pose in the map's frame, metres and degrees; without it the whole "
+          "map is searched")
+      .valueName("\"x y yaw\"");
+  cl.text("--gt", a.gt, "ground truth in the map's frame (TUM or KITTI), for report.json's error")
+      .valueName("FILE");
+  cl.text("--config", a.config, "MRPT INI as dlo-slam's (deskewing, selection, solver)")
+      .valueName("FILE");
+  cl.repeatable("--set", a.sets, "overrides one parameter after --config; may be repeated")
+      .valueName("section.key=value");
+  cl.text("--sensor-profile", a.sensor_profile, "as dlo-slam's")
+      .valueName("auto|dense|sparse|FILE");
+  cl.text("--model", a.model, "the Velodyne model of a .pcap input").valueName("VLP16|HDL32|HDL64");
+  cl.text("--sensor-label", a.sensor_label, "only observations with this sensor label")
+      .valueName("L");
+  cl.number("--min-range", a.min_range, "drop points closer than M metres to the sensor")
+      .valueName("M");
+  cl.number("--max-range", a.max_range, "drop points farther than M metres").valueName("M");
+  cl.wholeNumber("--max-frames", a.max_frames, "stop after N scans (-1: all)").valueName("N");
+  cl.flag("--quiet", a.quiet, "no progress bar");
+  cl.footer(kFooter);
+  if (!cl.parse(argc, argv)) return std::nullopt;
+  if (!(a.min_range >= 0.0 && a.max_range > a.min_range)) {
+    throw UsageError{"--min-range and --max-range must satisfy 0 <= min < max."};
+  }
+  if (!a.init.empty()) {
+    std::istringstream in(a.init);
+    double x = 0.0, y = 0.0, yaw = 0.0;
+    std::string rest;
+    if (!(in >> x >> y >> yaw) || (in >> rest) || !std::isfinite(x) || !std::isfinite(y) ||
+        !std::isfinite(yaw)) {
+      throw UsageError{"--init takes three numbers, \"x y yaw\" (metres, metres, degrees); got '" +
+                       a.init + "'."};
+    }
+    a.initial_pose = dlo::poseFromXYZYPR(x, y, 0.0, yaw * M_PI / 180.0, 0.0, 0.0);
+  }
+  return a;
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
+}
+
+/// The report, from the steps of the run.
+Json report(const Arguments& args, const dlo::Localizer& localizer,
+            const std::vector<dlo::LocalizationStep>& steps, const std::string& profile,
+            const std::optional<dlo::metrics::Trajectory>& ground_truth, bool interrupted,
+            const std::string& input_error) {
+  std::vector<double> ms;
+  size_t localised = 0, searches = 0, relocalisations = 0;
+  long first_fix = -1;
+  for (size_t i = 0; i < steps.size(); ++i) {
+    const dlo::LocalizationStep& s = steps[i];
+    ms.push_back(s.ms);
+    localised += s.localised;
+    searches += s.searched;
+    if (s.found && first_fix >= 0) ++relocalisations;
+    if (s.localised && first_fix < 0) first_fix = static_cast<long>(i);
+  }
+  Json j;
+  j["map"] = args.map;
+  j["map_keyframes"] = localizer.map().size();
+  j["input"] = args.input;
+  j["sensor_profile"] = profile;
+  j["scans"] = steps.size();
+  j["ms_per_scan"] = {{"median", percentile(ms, 0.5)}, {"p95", percentile(ms, 0.95)}};
+  j["localised_fraction"] = steps.empty() ? 0.0 : static_cast<double>(localised) / steps.size();
+  j["localised_scans"] = localised;
+  j["searches"] = searches;
+  j["relocalisations"] = relocalisations;
+  if (first_fix >= 0) {
+    j["first_fix"] = {{"scan", first_fix},
+                      {"seconds", steps[first_fix].time - steps.front().time},
+                      {"from_initial_pose", args.initial_pose.has_value()}};
+  } else {
+    j["first_fix"] = nullptr;
+  }
+  if (ground_truth) {
+    dlo::metrics::Trajectory estimate;
+    for (const dlo::LocalizationStep& s : steps) {
+      if (s.localised) estimate.push_back(s.time, s.pose);
+    }
+    const auto pairs = dlo::metrics::matchTimestamps(estimate, *ground_truth, 0.005);
+    double sum = 0.0, worst = 0.0;
+    for (const auto& [e, g] : pairs) {
+      const double d =
+          (estimate.poses[e].translation() - ground_truth->poses[g].translation()).norm();
+      sum += d * d;
+      worst = std::max(worst, d);
+    }
+    j["accuracy"] = {{"matched_poses", pairs.size()},
+                     {"ate_rmse_m", pairs.empty() ? 0.0 : std::sqrt(sum / pairs.size())},
+                     {"ate_max_m", worst}};
+  }
+  j["interrupted"] = interrupted;
+  j["input_error"] = input_error;
+  return j;
+}
+
+int run(const Arguments& args) {
+  std::optional<dlo::metrics::Trajectory> ground_truth;
+  if (!args.gt.empty()) {
+    try {
+      ground_truth = dlo::metrics::readTrajectory(args.gt);
+    } catch (const std::exception& e) {
+      throw dlo::InputError("cannot read ground truth '" + args.gt + "': " + e.what());
+    }
+  }
+  const dlo::SlamConfigLayers layers{args.config, args.sets};
+  const bool auto_profile = args.sensor_profile == "auto";
+  dlo::SlamParams params =
+      dlo::resolveSlamParams(auto_profile ? "dense" : args.sensor_profile, layers);
+  dlo::PriorMap map = dlo::loadPriorMap(args.map);
+  dlo::ScanSourceOptions options;
+  options.min_range = args.min_range;
+  options.max_range = args.max_range;
+  options.sensor_label = args.sensor_label;
+  std::unique_ptr<dlo::ScanSource> source = dlo::openScanSource(args.input, args.model, options);
+  std::error_code ec;
+  std::filesystem::create_directories(args.out, ec);
+  if (!std::filesystem::is_directory(args.out)) {
+    throw dlo::InputError("cannot create output folder '" + args.out + "'.");
+  }
+  const std::filesystem::path out(args.out);
+
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+  dlo::TimedScan scan;
+  bool have = source->next(scan);
+  dlo::SensorProfileChoice profile{args.sensor_profile, "--sensor-profile"};
+  if (auto_profile && have) {
+    profile =
+        dlo::chooseSensorProfile(dlo::sensorEvidence(scan.points, scan.beams, scan.sensor_pose));
+    params = dlo::resolveSlamParams(profile.name, layers);
+  }
+  dlo::Localizer localizer(std::move(map), dlo::LocalizerParams(), params);
+  if (args.initial_pose) localizer.setInitialPose(*args.initial_pose);
+
+  dlo::metrics::TumWriter trajectory(
+      (out / "trajectory.tum").string(),
+      "# dlo-localize: timestamp x y z qx qy qz qw in the map's frame\n");
+  std::string csv = "time,localised,searched,found,confidence,rms_m,inliers,x,y,z,yaw_deg,ms\n";
+  std::vector<dlo::LocalizationStep> steps;
+  dlo::ProgressBar bar(0, "scans", !args.quiet);
+  while (have && !g_stop &&
+         (args.max_frames < 0 || static_cast<long>(steps.size()) < args.max_frames)) {
+    const dlo::LocalizationStep s =
+        localizer.process(scan.timestampSeconds(), scan.points, scan.point_times);
+    if (s.localised) trajectory.write(s.time, s.pose);
+    const Eigen::Vector3d p = s.pose.translation();
+    char line[256];
+    std::snprintf(line, sizeof line, "%.6f,%d,%d,%d,%.3f,%.4f,%.3f,%.4f,%.4f,%.4f,%.3f,%.3f\n",
+                  s.time, s.localised, s.searched, s.found, s.confidence, s.rms, s.inliers, p.x(),
+                  p.y(), p.z(), dlo::yawPitchRoll(s.pose.linear()).x() * 180.0 / M_PI, s.ms);
+    csv += line;
+    steps.push_back(s);
+    bar.update(steps.size());
+    have = source->next(scan);
+  }
+  bar.finish(steps.size());
+  const bool interrupted = g_stop;
+  const std::string input_error = source->stats().error;
+  if (!input_error.empty()) std::cerr << "dlo-localize: warning: " << input_error << "\n";
+  if (steps.empty()) {
+    throw dlo::InputError("input '" + args.input + "' holds no usable scan.\n" +
+                          dlo::describeScanSourceStats(source->stats()));
+  }
+  trajectory.commit();
+  dlo::writeBytesAtomically((out / "localization.csv").string(),
+                            std::vector<unsigned char>(csv.begin(), csv.end()));
+  dlo::writeLocalizationImage(localizer.map(), steps, (out / "localization.png").string());
+  const Json j =
+      report(args, localizer, steps, profile.name, ground_truth, interrupted, input_error);
+  const std::string text = j.dump(2) + "\n";
+  dlo::writeBytesAtomically((out / "report.json").string(),
+                            std::vector<unsigned char>(text.begin(), text.end()));
+  std::cout << "dlo-localize: " << steps.size() << " scans, " << j["localised_scans"].get<size_t>()
+            << " localised (" << 100.0 * j["localised_fraction"].get<double>() << " %), "
+            << j["relocalisations"].get<size_t>() << " re-localisations; "
+            << j["ms_per_scan"]["median"].get<double>() << " ms/scan median";
+  if (j.contains("accuracy")) {
+    std::cout << "; position error " << j["accuracy"]["ate_rmse_m"].get<double>() << " m RMS";
+  }
+  std::cout << "; outputs in '" << args.out << "'" << (interrupted ? " (interrupted)" : "")
+            << ".\n";
+  return interrupted ? 3 : 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return dlo::runApp("dlo-localize", [&] {
+    const std::optional<Arguments> args = parseArguments(argc, argv);
+    return args ? run(*args) : 0;
+  });
+}

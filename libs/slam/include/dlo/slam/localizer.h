@@ -1,0 +1,170 @@
+/// \file localizer.h
+/// \brief Localisation of a new drive on a map that dlo-slam made: a global search for the
+/// first fix, then every scan registered against the prior map around its predicted pose.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "dlo/core/direct_aligner.h"
+#include "dlo/core/dlo_params.h"
+#include "dlo/core/ground_surface.h"
+#include "dlo/core/height_frame.h"
+#include "dlo/core/point_cloud.h"
+#include "dlo/core/weighted_cloud.h"
+#include "dlo/slam/lidar_odometry.h"
+#include "dlo/slam/slam_params.h"
+
+namespace dlo {
+
+/// The map to localise on: dlo-slam's keyframes, each a pose in the map frame and its cloud in
+/// its own frame (for the global search), and its height map (what scans are registered
+/// against: point counts and height sums per cell, as the odometry's grids hold them).
+struct PriorMap {
+  std::vector<Eigen::Isometry3d> poses;
+  std::vector<WeightedCloud> clouds;
+  /// Height map cells: cell (ix, iy) covers x in [x_min + ix res, x_min + (ix + 1) res) and
+  /// likewise y; row-major, cols x rows.
+  double x_min = 0.0, y_min = 0.0, resolution = 0.2;
+  int cols = 0, rows = 0;
+  std::vector<std::uint32_t> count;
+  std::vector<float> sum;
+  size_t size() const { return poses.size(); }
+};
+
+/// Reads a dlo-slam output folder: the keyframes of its map.simplemap and its heightmap.bin.
+/// \throws InputError naming the file if one is missing, unreadable or holds nothing.
+PriorMap loadPriorMap(const std::string& slam_out_dir);
+
+/// How the Localizer registers scans against the prior map and when it believes them.
+struct LocalizerParams {
+  /// Registration grid (both the scan's and the map's): cells per side, at the height map's
+  /// resolution (0.2 m from dlo-slam): 60 m across.
+  int cells = 300;
+  /// The map reference (the height map's window around the vehicle) is rebuilt when the vehicle
+  /// is this far (metres) from its centre.
+  double rebuild_distance = 5.0;
+  /// A registration against the map is believed (the scan is localised) when it is well
+  /// conditioned, at least min_inliers of the scan's selected cells found the map, and its RMS
+  /// height error is at most rms_ratio times the median of the last localised scans' (from the
+  /// fix on: a wrong basin, or surroundings that changed since the map, fit worse than the drive
+  /// usually does) and at most max_rms metres (the only bound for a scan tracked from --init).
+  double min_inliers = 0.6;
+  double rms_ratio = 1.5;
+  double max_rms = 1.0;
+  /// ... and it moved the pose at most this far (metres) from the prediction: over one scan the
+  /// odometry's motion is right to centimetres, and a registration that jumps by more has found
+  /// another basin (seen: 1.3-1.9 m jumps at an RMS the drive reached elsewhere).
+  double max_correction = 0.5;
+  /// After this many scans in a row that were not localised, the vehicle is lost: the next scan
+  /// searches the whole map again (a kidnapping, a registration gone astray).
+  int lost_after = 3;
+  /// A global search is tried at most once every this many scans while lost (it registers the
+  /// scan from 24 headings at every search_spacing along the map: about 0.7 s on the simulated
+  /// block's 64 keyframes).
+  int search_every = 5;
+  /// Global search: starts at the map's keyframes at least search_spacing metres apart, at
+  /// headings search_yaw_step_deg apart. The best place counts as found when it fits better
+  /// than the median place by search_contrast (RMS ratio) and better than any other distinct
+  /// place by ambiguity_ratio.
+  double search_spacing = 3.0;
+  double search_yaw_step_deg = 15.0;
+  double search_contrast = 1.5;
+  double ambiguity_ratio = 1.2;
+};
+
+/// What happened to one scan.
+struct LocalizationStep {
+  double time = 0.0;
+  bool localised = false;  ///< the pose was measured against the map and believed
+  /// Pose in the map frame: measured when localised, predicted (the last localised pose moved
+  /// by the last velocity) otherwise; meaningless before the first fix.
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  bool fixed = false;     ///< some scan up to this one has been localised
+  bool searched = false;  ///< a global search ran on this scan
+  bool found = false;     ///< ... and found the vehicle (a first fix or a re-localisation)
+  double rms = 0.0;       ///< RMS height error of the registration against the map (m)
+  double inliers = 0.0;   ///< fraction of the scan's selected cells that found the map
+  /// How far (metres) the registration moved the pose from its prediction (the odometry's motion
+  /// from the last pose); 0 for a global search.
+  double correction = 0.0;
+  /// In [0, 1]: inliers x (1 - rms / max_rms), 0 when not localised.
+  double confidence = 0.0;
+  double ms = 0.0;  ///< processing time of the scan
+};
+
+/// Writes `png`: the map's keyframe clouds seen from above (grey, darker where higher), the
+/// localised poses of `steps` (green), those predicted while not localised (red) and the map's
+/// keyframes (blue dots). About 0.25 m per pixel, coarser for maps larger than 4000 pixels.
+/// \throws OutputError naming the file if it cannot be written.
+void writeLocalizationImage(const PriorMap& map, const std::vector<LocalizationStep>& steps,
+                            const std::string& png);
+
+/// Localises scans, one at a time, on a PriorMap. A LidarOdometry runs beside it from the first
+/// scan: its motion since the last scan predicts the pose on the map, and its velocity deskews
+/// the sweep. With no initial pose the first scans search the whole map (every keyframe, every
+/// heading, registered at full resolution, accepted only if one place clearly fits best); then
+/// each scan is registered against the height map around its predicted pose, its z, roll and
+/// pitch from the ground. A scan that does not fit the map well keeps the odometry's pose and is
+/// reported as not localised; after a few in a row the search runs again.
+class Localizer {
+ public:
+  /// \param slam the parameters of the odometry that runs beside (and of the registrations
+  ///        against the map: selection, solver, deskewing, with the grid replaced by the height
+  ///        map's resolution and params.cells).
+  Localizer(PriorMap map, const LocalizerParams& params, const SlamParams& slam);
+
+  /// Starts tracking at `pose` (map frame) instead of searching: the first scan is registered
+  /// around it.
+  void setInitialPose(const Eigen::Isometry3d& pose);
+
+  /// Processes one scan (vehicle frame; `point_times` as LidarOdometry::process).
+  LocalizationStep process(double time, const PointCloud& points,
+                           const std::vector<float>& point_times);
+
+  const PriorMap& map() const { return map_; }
+  const LocalizerParams& params() const { return params_; }
+
+ private:
+  /// Registers the current frame against the map around `guess` (map frame); fills step's
+  /// rms and inliers and, if it is well conditioned, found the map with min_inliers of its
+  /// cells and fits within `rms_bound`, its pose. \return whether it did.
+  bool track(const Eigen::Isometry3d& guess, double rms_bound, LocalizationStep& step);
+  /// The RMS a tracked registration may reach: rms_ratio times the recent median, max_rms at
+  /// most.
+  double trackingBound() const;
+  /// Searches the whole map for the current scan. \return whether a pose was found (then
+  /// `found` holds it and `best_rms` its fit).
+  bool search(Eigen::Isometry3d& found, double& best_rms);
+  /// Builds reference_ from the height map's window around `pose` unless it is already near there.
+  /// \return whether the reference holds anything.
+  bool referenceAround(const Eigen::Isometry3d& pose, bool force = false);
+  /// `pose` with z, roll and pitch from the map's ground under the current frame.
+  Eigen::Isometry3d levelled(const Eigen::Isometry3d& pose);
+
+  PriorMap map_;
+  LocalizerParams params_;
+  SlamParams slam_;
+  DloParams grid_;
+  DirectAligner aligner_;
+  HeightFrame current_, reference_;
+  Eigen::Isometry3d reference_pose_ = Eigen::Isometry3d::Identity();  ///< map frame
+  bool reference_ready_ = false;
+  GroundSurface ground_;  ///< the current frame's ground (fitted once per scan, when needed)
+  bool ground_fitted_ = false;
+
+  LidarOdometry odometry_;
+  Eigen::Isometry3d last_odometry_ = Eigen::Isometry3d::Identity();  ///< odometry frame
+  size_t scans_ = 0;       ///< processed so far (after the first, the odometry has a velocity)
+  bool tracking_ = false;  ///< a pose to predict from (a fix or an initial pose)
+  bool fixed_ = false;
+  Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();  ///< map frame
+  int unlocalised_run_ = 0;
+  std::vector<double> recent_rms_;  ///< of the last localised scans, oldest first
+  int since_search_ = 1 << 20;
+  std::vector<float> times_;
+};
+
+}  // namespace dlo
