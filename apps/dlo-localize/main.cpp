@@ -64,7 +64,7 @@ struct Arguments {
 std::optional<Arguments> parseArguments(int argc, char** argv) {
   Arguments a;
   dlo::ProgramOptions cl("dlo-localize", kDescription);
-  cl.text("--map", a.map, "a dlo-slam output folder (its map.simplemap is read)")
+  cl.text("--map", a.map, "a dlo-slam output folder (its heightmap.bin and map.simplemap are read)")
       .valueName("MAP")
       .required();
   cl.text("--input", a.input, "the drive to localise: a rawlog, a Velodyne .pcap or a KITTI folder")

@@ -33,6 +33,9 @@ constexpr double kDistinctBasin = 1.5;              // metres
 constexpr double kDistinctBasinAngle = 5.0 * kDeg;  // radians
 /// Localised scans whose median RMS sets what a tracked registration may reach.
 constexpr size_t kRecentFits = 20;
+/// Scans after a re-localisation that jumped away from the odometry's pose that must be
+/// localised before the jump is reported.
+constexpr int kConfirmations = 2;
 /// A search needs this many distinct places that fit at all to judge the best against them.
 constexpr size_t kMinBasins = 5;
 
@@ -157,12 +160,22 @@ LocalizationStep Localizer::process(double time, const PointCloud& points,
   ground_fitted_ = false;
 
   bool believed = false;
+  bool on_probation = probation_ > 0;
   if (tracking_) {
-    const Eigen::Isometry3d predicted = last_pose_ * moved;
-    believed = track(predicted, trackingBound(), step);
+    Eigen::Isometry3d predicted = last_pose_ * moved;
+    if (on_probation) fallback_ = fallback_ * moved;
+    // The odometry's motion carries z, roll and pitch from the last levelled pose: only the
+    // result is levelled.
+    believed = track(predicted, trackingBound(), step, false);
     step.correction = (step.pose.translation() - predicted.translation()).norm();
     if (step.correction > params_.max_correction) believed = false;
+    if (!believed && on_probation) {
+      // The place a search jumped to does not hold: back to the odometry's own path.
+      predicted = fallback_;
+      probation_ = 0;
+    }
     if (!believed) step.pose = predicted;
+    if (believed && on_probation) --probation_;
   }
   const bool lost = !tracking_ || unlocalised_run_ + 1 >= params_.lost_after;
   // A sweep with per-point times is searched for once the odometry has measured a velocity to
@@ -173,10 +186,18 @@ LocalizationStep Localizer::process(double time, const PointCloud& points,
     since_search_ = 0;
     Eigen::Isometry3d found;
     double fit = 0.0;
-    if (search(found, fit)) {
+    if (search(tracking_ ? &step.pose : nullptr, found, fit)) {
       LocalizationStep verified = step;
       recent_rms_.assign(1, fit);
       if (track(found, trackingBound(), verified)) {
+        // A jump away from where the odometry has the vehicle is believed once the next scans
+        // confirm it (a wrong place found in a corridor failed on the next scan); until then
+        // its scans are not reported as localised.
+        if (tracking_ && distinct(step.pose, verified.pose)) {
+          fallback_ = step.pose;
+          probation_ = kConfirmations;
+          on_probation = true;
+        }
         step = verified;
         step.searched = true;
         step.found = true;
@@ -189,7 +210,9 @@ LocalizationStep Localizer::process(double time, const PointCloud& points,
     tracking_ = true;
     fixed_ = true;
     unlocalised_run_ = 0;
-    step.confidence = std::clamp(step.inliers * (1.0 - step.rms / params_.max_rms), 0.0, 1.0);
+    step.confidence = on_probation && probation_ > 0
+                          ? 0.0
+                          : std::clamp(step.inliers * (1.0 - step.rms / params_.max_rms), 0.0, 1.0);
     recent_rms_.push_back(step.rms);
     if (recent_rms_.size() > kRecentFits) recent_rms_.erase(recent_rms_.begin());
   } else {
@@ -199,7 +222,7 @@ LocalizationStep Localizer::process(double time, const PointCloud& points,
   if (tracking_) last_pose_ = step.pose;
   ++since_search_;
   ++scans_;
-  step.localised = believed;
+  step.localised = believed && !(on_probation && probation_ > 0);
   step.fixed = fixed_;
   step.ms = watch.elapsedMs();
   return step;
@@ -212,9 +235,10 @@ double Localizer::trackingBound() const {
   return std::min(params_.max_rms, params_.rms_ratio * v[v.size() / 2]);
 }
 
-bool Localizer::track(const Eigen::Isometry3d& guess, double rms_bound, LocalizationStep& step) {
+bool Localizer::track(const Eigen::Isometry3d& guess, double rms_bound, LocalizationStep& step,
+                      bool level_guess) {
   if (current_.empty() || !referenceAround(guess)) return false;
-  const Eigen::Isometry3d start = levelled(guess);
+  const Eigen::Isometry3d start = level_guess ? levelled(guess) : guess;
   const AlignmentResult r = aligner_.align(reference_, current_, reference_pose_.inverse() * start);
   const Eigen::Isometry3d pose = levelled(reference_pose_ * r.pose);
   const double selected = static_cast<double>(current_.levels().front().cells.size());
@@ -278,7 +302,8 @@ Eigen::Isometry3d Localizer::levelled(const Eigen::Isometry3d& pose) {
   return g.aligned ? Eigen::Isometry3d(reference_pose_ * g.pose) : pose;
 }
 
-bool Localizer::search(Eigen::Isometry3d& found, double& best_rms) {
+bool Localizer::search(const Eigen::Isometry3d* prediction, Eigen::Isometry3d& found,
+                       double& best_rms) {
   if (current_.empty()) return false;
   // Keyframes search_spacing apart, every heading: the vehicle drives where the map's keyframes
   // were made, so one of them lies within a metre or two of it, and one heading within half a
@@ -329,6 +354,19 @@ bool Localizer::search(Eigen::Isometry3d& found, double& best_rms) {
   if (!(best->rms * params_.search_contrast <= fits[fits.size() / 2])) return false;
   for (const Basin& b : basins) {
     if (distinct(b.pose, best->pose) && b.rms < best->rms * params_.ambiguity_ratio) return false;
+  }
+  // While tracking, the odometry's prediction stands unless the map clearly prefers the place
+  // found: the fit where the prediction stands, unmoved, against the fit there (a corridor
+  // whose scans fit poorly for a few metres found a place 2.7 m along the road otherwise; after
+  // a kidnapping the prediction fits badly).
+  if (prediction && distinct(*prediction, best->pose)) {
+    referenceAround(*prediction, true);
+    const double at_prediction =
+        aligner_.cost(reference_, current_, reference_pose_.inverse() * *prediction);
+    referenceAround(best->pose, true);
+    const double at_best =
+        aligner_.cost(reference_, current_, reference_pose_.inverse() * best->pose);
+    if (!(at_best * params_.ambiguity_ratio <= at_prediction)) return false;
   }
   best_rms = best->rms;
   found = best->pose;

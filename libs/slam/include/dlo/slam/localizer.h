@@ -131,13 +131,17 @@ class Localizer {
   /// Registers the current frame against the map around `guess` (map frame); fills step's
   /// rms and inliers and, if it is well conditioned, found the map with min_inliers of its
   /// cells and fits within `rms_bound`, its pose. \return whether it did.
-  bool track(const Eigen::Isometry3d& guess, double rms_bound, LocalizationStep& step);
+  /// `level_guess`: lay the guess on the map's ground first (a search's start, whose height and
+  /// tilt are the keyframe's).
+  bool track(const Eigen::Isometry3d& guess, double rms_bound, LocalizationStep& step,
+             bool level_guess = true);
   /// The RMS a tracked registration may reach: rms_ratio times the recent median, max_rms at
   /// most.
   double trackingBound() const;
-  /// Searches the whole map for the current scan. \return whether a pose was found (then
+  /// Searches the whole map for the current scan; a place away from `prediction` (if not null)
+  /// must fit clearly better than the prediction itself. \return whether a pose was found (then
   /// `found` holds it and `best_rms` its fit).
-  bool search(Eigen::Isometry3d& found, double& best_rms);
+  bool search(const Eigen::Isometry3d* prediction, Eigen::Isometry3d& found, double& best_rms);
   /// Builds reference_ from the height map's window around `pose` unless it is already near there.
   /// \return whether the reference holds anything.
   bool referenceAround(const Eigen::Isometry3d& pose, bool force = false);
@@ -162,6 +166,10 @@ class Localizer {
   bool fixed_ = false;
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();  ///< map frame
   int unlocalised_run_ = 0;
+  /// Scans still to confirm a re-localisation that jumped away from the odometry's pose, and
+  /// that pose carried on by the odometry meanwhile (what tracking returns to if they fail).
+  int probation_ = 0;
+  Eigen::Isometry3d fallback_ = Eigen::Isometry3d::Identity();
   std::vector<double> recent_rms_;  ///< of the last localised scans, oldest first
   int since_search_ = 1 << 20;
   std::vector<float> times_;
