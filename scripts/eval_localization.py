@@ -20,15 +20,10 @@ import json
 import math
 import os
 import statistics
-import subprocess
 import sys
 
-
-def run(cmd, log):
-    with open(log, "w") as f:
-        r = subprocess.run(cmd, stdout=f, stderr=subprocess.STDOUT)
-    if r.returncode != 0:
-        sys.exit(f"eval_localization: '{' '.join(cmd)}' failed (exit {r.returncode}), see {log}")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from eval_matrix import run  # noqa: E402  (one command runner for both scripts)
 
 
 def load_tum(path):

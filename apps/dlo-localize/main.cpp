@@ -17,6 +17,7 @@
 #include "dlo/core/rigid_transform.h"
 #include "dlo/files/atomic_file.h"
 #include "dlo/files/error.h"
+#include "dlo/metrics/error_statistics.h"
 #include "dlo/metrics/timestamp_matching.h"
 #include "dlo/metrics/trajectory_io.h"
 #include "dlo/mrpt/open_scan_source.h"
@@ -156,16 +157,14 @@ Json report(const Arguments& args, const dlo::Localizer& localizer,
       if (s.localised) estimate.push_back(s.time, s.pose);
     }
     const auto pairs = dlo::metrics::matchTimestamps(estimate, *ground_truth, 0.005);
-    double sum = 0.0, worst = 0.0;
+    std::vector<double> errors;
     for (const auto& [e, g] : pairs) {
-      const double d =
-          (estimate.poses[e].translation() - ground_truth->poses[g].translation()).norm();
-      sum += d * d;
-      worst = std::max(worst, d);
+      errors.push_back(
+          (estimate.poses[e].translation() - ground_truth->poses[g].translation()).norm());
     }
-    j["accuracy"] = {{"matched_poses", pairs.size()},
-                     {"ate_rmse_m", pairs.empty() ? 0.0 : std::sqrt(sum / pairs.size())},
-                     {"ate_max_m", worst}};
+    const dlo::metrics::ErrorStatistics stats = dlo::metrics::errorStatistics(errors);
+    j["accuracy"] = {
+        {"matched_poses", pairs.size()}, {"ate_rmse_m", stats.rmse}, {"ate_max_m", stats.max}};
   }
   j["interrupted"] = interrupted;
   j["input_error"] = input_error;
