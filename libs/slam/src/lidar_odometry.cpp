@@ -160,6 +160,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   // table only and grid_ms includes moving the points), and copied only for a keyframe.
   Stopwatch deskew_watch;
   const std::vector<float>& times = sweepTimes(points, point_times, step);
+  last_times_ = &times;
   const bool deskew = !times.empty() && frames_ > 0;
   const bool copy = deskew && reference_->deskewsACopy();
   SweepMotion motion;

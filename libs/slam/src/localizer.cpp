@@ -150,9 +150,7 @@ LocalizationStep Localizer::process(double time, const PointCloud& points,
   const OdometryStep odometry = odometry_.process(time, points, point_times);
   const Eigen::Isometry3d moved = last_odometry_.inverse() * odometry.pose;
   last_odometry_ = odometry.pose;
-  PointTimeSource source;
-  const std::vector<float>& times =
-      pointTimesFor(points, point_times, slam_.odometry, times_, source);
+  const std::vector<float>& times = odometry_.lastPointTimes();  // estimated once, there
   const SweepMotion motion =
       !times.empty() && scans_ > 0 ? SweepMotion(times, odometry_.velocity()) : SweepMotion();
   current_.build(points, motion, grid_.grid, grid_.selection, grid_.includeGround(),

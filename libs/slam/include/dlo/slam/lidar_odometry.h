@@ -120,6 +120,9 @@ class LidarOdometry {
 
   /// Current velocity estimate: body twist per second.
   const Vector6d& velocity() const { return velocity_; }
+  /// The per-point times the last process() deskewed with (pointTimesFor(); empty if none).
+  /// Valid until the next process() call, and while the point_times passed to it live.
+  const std::vector<float>& lastPointTimes() const { return *last_times_; }
   size_t frames() const { return frames_; }
 
  private:
@@ -203,7 +206,10 @@ class LidarOdometry {
   bool ground_fitted_ = false;  ///< ground_ is that of current_ as last built
   PointCloud deskewed_;  ///< reference = scan_map: the scan deskewed, memory reused for every scan
   PointCloud near_;      ///< a keyframe's points within map_range, memory reused
-  std::vector<float> estimated_times_;  ///< sweepTimes() of scans without times, memory reused
+  std::vector<float> estimated_times_;
+  const std::vector<float>* last_times_ =
+      &estimated_times_;  ///< see lastPointTimes()  ///< sweepTimes() of scans without times,
+                          ///< memory reused
   /// What scans are registered against (odometry.reference).
   ReferenceModelPtr reference_;
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();

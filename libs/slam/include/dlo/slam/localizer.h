@@ -172,7 +172,6 @@ class Localizer {
   Eigen::Isometry3d fallback_ = Eigen::Isometry3d::Identity();
   std::vector<double> recent_rms_;  ///< of the last localised scans, oldest first
   int since_search_ = 1 << 20;
-  std::vector<float> times_;
 };
 
 }  // namespace dlo
