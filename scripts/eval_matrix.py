@@ -20,6 +20,9 @@ Conditions:
   open-road     an open road at 15 m/s: a 585 m straight through grass with kerbs, a pole every
                 ~60 m and a clump of trees every ~200 m (little constrains the scans along it)
   open-road-notimes  the open road without per-point times
+  large-loop    laps of a 180 x 120 m rectangle of the town's roads (dlo-simulate --large-loop):
+                180 m straights through crossings with cross traffic, new buildings along them
+  large-loop-notimes  the large loop without per-point times
   stop          the town's laps with hard stops: 6 s in and every 12 s after, braking at 7 m/s^2
                 to a standstill, 2 s still, accelerating again at 2.5 m/s^2
   stop-notimes  the stops without per-point times
@@ -72,6 +75,8 @@ CONDITIONS = {
     "hills-notimes": (["--hills", "0.2", "--no-point-times"], ["odometry.sweep_stamp=0"]),
     "open-road": (["--open-road"], []),
     "open-road-notimes": (["--open-road", "--no-point-times"], ["odometry.sweep_stamp=0"]),
+    "large-loop": (["--large-loop"], []),
+    "large-loop-notimes": (["--large-loop", "--no-point-times"], ["odometry.sweep_stamp=0"]),
     "stop": (["--stops"], []),
     "stop-notimes": (["--stops", "--no-point-times"], ["odometry.sweep_stamp=0"]),
     # Other spin directions and sweep starts, described to dlo-slam as the data has them (its

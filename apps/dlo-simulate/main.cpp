@@ -60,6 +60,7 @@ struct Arguments {
   double turn_rate = 90.0;
   double hills = 0.0;
   bool open_road = false;
+  bool large_loop = false;
   bool stops = false;
   bool no_point_times = false;
   double sweep_start = 0.0;
@@ -141,6 +142,10 @@ std::optional<Arguments> parseArguments(int argc, char** argv) {
           "(then round a 1200 x 150 m rectangle) through grass, kerbs on both sides, a pole every "
           "~60 m and a clump of trees every ~200 m, so that the scans constrain little along the "
           "road");
+  cl.flag("--large-loop", a.large_loop,
+          "laps of the 180 x 120 m rectangle of town roads around the 3 x 3 blocks centred on the "
+          "default block instead of that block alone: 180 m straights through four crossings "
+          "with cross traffic, about 600 m per lap, new buildings along most of it");
   cl.flag("--stops", a.stops,
           "hard stops: 6 s into the drive and every 12 s after, the car brakes at 7 m/s^2 to a "
           "standstill, waits 2 s and accelerates again at 2.5 m/s^2");
@@ -182,6 +187,9 @@ std::optional<Arguments> parseArguments(int argc, char** argv) {
     a.traffic_seed = static_cast<uint32_t>(parseInteger(
         "--traffic-seed", traffic_seed, 1, 4294967295L, "an integer in [1, 4294967295]"));
     if (a.open_road) throw UsageError{"--traffic-seed applies to the town, not --open-road."};
+  }
+  if (a.large_loop && a.open_road) {
+    throw UsageError{"--large-loop is a loop of the town; it cannot be combined with --open-road."};
   }
   if (cl.given("--corner-transition")) {
     a.corner_transition = parseNumber("--corner-transition", corner_transition, 0.0, 15.0,
@@ -237,6 +245,11 @@ int run(const Arguments& a) {
   dlo::sim::OpenRoadParams road;
   town.maxGrade = road.maxGrade = a.hills;
   town.trafficSeed = a.traffic_seed;
+  if (a.large_loop) {
+    // The roads one crossing out from the default block on every side.
+    town.loopMin = {town.roadsX[1], town.roadsY[1]};
+    town.loopMax = {town.roadsX[4], town.roadsY[4]};
+  }
   const auto world = a.open_road ? dlo::sim::ProceduralWorld::generateOpenRoad(a.seed, road)
                                  : dlo::sim::ProceduralWorld::generate(a.seed, town);
   const Eigen::Vector2d lo = a.open_road ? road.loopMin : town.loopMin;
