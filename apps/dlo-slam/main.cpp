@@ -171,6 +171,7 @@ void writeAnnotatedRawlog(const Arguments& args, const dlo::SlamParams& params,
   dlo::ProgressBar bar(map.frames.size(), "scans to " + args.rawlog_out, !args.quiet);
   dlo::TimedScan scan;
   std::vector<float> times;
+  dlo::SweepPeriodEstimate period;  // as the odometry estimated it
   for (size_t i = 0; i < map.frames.size(); ++i) {
     if (!source->next(scan) || std::abs(scan.timestampSeconds() - map.frames[i].time) > 1e-6) {
       throw dlo::InputError("input '" + args.input + "' did not give the same scans when read " +
@@ -179,8 +180,10 @@ void writeAnnotatedRawlog(const Arguments& args, const dlo::SlamParams& params,
                             writer.partialPath() + "'.");
     }
     dlo::PointTimeSource source;
+    period.add(scan.timestampSeconds());
     const std::vector<float>& t =
-        dlo::pointTimesFor(scan.points, scan.point_times, params.odometry, times, source);
+        dlo::pointTimesFor(scan.points, scan.point_times, params.odometry,
+                           dlo::sweepPeriod(params.odometry, period), times, source);
     writer.write(scan, map.framePose(i),
                  t.empty() ? scan.points : dlo::deskew(scan.points, t, frameVelocity(map, i)));
     bar.update(i + 1);

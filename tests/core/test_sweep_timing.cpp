@@ -220,5 +220,37 @@ TEST(SweepTiming, TheRealKittiScanIsTimedClockwiseFromBehind) {
   }
 }
 
+TEST(SweepPeriodEstimate, IsTheMedianIntervalBetweenScans) {
+  SweepPeriodEstimate e;
+  EXPECT_FALSE(e.known());
+  EXPECT_DOUBLE_EQ(e.period(0.1), 0.1);  // one timestamp tells nothing
+  e.add(100.0);
+  EXPECT_DOUBLE_EQ(e.period(0.1), 0.1);
+  // A 20 Hz sensor with a little jitter, a dropped scan and a repeated stamp.
+  double t = 100.0;
+  for (int k = 1; k <= 30; ++k) {
+    t += (k == 12 ? 0.1 : 0.05) + (k % 2 ? 2e-4 : -2e-4);
+    e.add(t);
+    if (k == 20) e.add(t);  // the same stamp twice: ignored
+  }
+  ASSERT_TRUE(e.known());
+  EXPECT_NEAR(e.period(0.1), 0.05, 3e-4);
+}
+
+TEST(SweepPeriodEstimate, IgnoresGapsAndAveragesStampsCutAtPackets) {
+  SweepPeriodEstimate e;
+  double t = 0.0;
+  e.add(t);
+  e.add(t += 5.0);  // a pause in the recording: not a period
+  EXPECT_FALSE(e.known());
+  // A 5 Hz sensor whose sweeps end at packet boundaries: 200.8, 199.5, 199.7 ms, ... The
+  // median of such a pattern is one of its values; the mean is the period.
+  const double pattern[] = {0.2008, 0.1995, 0.1997};
+  for (int k = 0; k < 60; ++k) e.add(t += pattern[k % 3]);
+  EXPECT_NEAR(e.period(0.1), 0.2, 1e-9);
+  e.add(t += 0.4);  // a dropped scan
+  EXPECT_NEAR(e.period(0.1), 0.2, 1e-4);
+}
+
 }  // namespace
 }  // namespace dlo

@@ -128,4 +128,25 @@ SweepTimingEstimate estimateSweepTimes(const PointCloud& points, const SweepTimi
   return e;
 }
 
+void SweepPeriodEstimate::add(double time) {
+  const double dt = time - last_;
+  const bool interval = has_last_ && dt > 0.0 && dt <= 1.0;
+  last_ = time;
+  has_last_ = true;
+  if (!interval) return;
+  recent_.push_back(dt);
+  if (recent_.size() > kWindow) recent_.pop_front();
+  std::vector<double> v(recent_.begin(), recent_.end());
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  if (std::abs(dt - *mid) <= 0.2 * *mid) {
+    sum_ += dt;
+    ++counted_;
+  }
+}
+
+double SweepPeriodEstimate::period(double fallback) const {
+  return counted_ > 0 ? sum_ / static_cast<double>(counted_) : fallback;
+}
+
 }  // namespace dlo

@@ -159,6 +159,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   // Otherwise it is deskewed while it is rasterised, with no copy (deskew_ms is then the motion
   // table only and grid_ms includes moving the points), and copied only for a keyframe.
   Stopwatch deskew_watch;
+  period_.add(time);
   const std::vector<float>& times = sweepTimes(points, point_times, step);
   last_times_ = &times;
   const bool deskew = !times.empty() && frames_ > 0;
@@ -667,12 +668,24 @@ double LidarOdometry::deviation(const Eigen::Isometry3d& a, const Eigen::Isometr
 const std::vector<float>& LidarOdometry::sweepTimes(const PointCloud& points,
                                                     const std::vector<float>& measured,
                                                     OdometryStep& step) {
-  return pointTimesFor(points, measured, params_.odometry, estimated_times_, step.point_times);
+  const double period = sweepPeriod(params_.odometry, period_);
+  const std::vector<float>& t =
+      pointTimesFor(points, measured, params_.odometry, period, estimated_times_, step.point_times);
+  if (step.point_times == PointTimeSource::kFromOrder ||
+      step.point_times == PointTimeSource::kFromParams) {
+    step.sweep_period = period;
+  }
+  return t;
+}
+
+double sweepPeriod(const OdometryParams& o, const SweepPeriodEstimate& scans) {
+  return o.sweep_period > 0.0 ? o.sweep_period : scans.period(kDefaultSweepPeriod);
 }
 
 const std::vector<float>& pointTimesFor(const PointCloud& points,
                                         const std::vector<float>& measured, const OdometryParams& o,
-                                        std::vector<float>& buffer, PointTimeSource& source) {
+                                        double period, std::vector<float>& buffer,
+                                        PointTimeSource& source) {
   static const std::vector<float> kNoTimes;
   source = PointTimeSource::kNone;
   if (o.deskew == 0 || points.empty()) return kNoTimes;
@@ -682,7 +695,7 @@ const std::vector<float>& pointTimesFor(const PointCloud& points,
   }
   if (o.estimate_times == 0) return kNoTimes;
   SweepTimingParams timing;
-  timing.period = o.sweep_period;
+  timing.period = period;
   timing.direction = o.sweep_direction;
   timing.start_azimuth_deg = o.sweep_start_azimuth;
   timing.stamp_phase = o.sweep_stamp;

@@ -89,7 +89,8 @@ std::vector<ParamField<SlamParams>> fields() {
                  "false: used as they are",
                  booleanNames()),
       paramField("odometry", "sweep_period", &S::odometry, &O::sweep_period,
-                 "seconds per revolution of the sensor (estimated times)"),
+                 "seconds per revolution of the sensor (estimated times); 0: read off the "
+                 "scans' timestamps (their mean interval, dropped scans and gaps left out)"),
       paramField("odometry", "sweep_direction", &S::odometry, &O::sweep_direction,
                  "-1: the sensor spins clockwise seen from above (Velodyne, Ouster, Hesai); 1: "
                  "counter-clockwise; used when the point order does not reveal it"),

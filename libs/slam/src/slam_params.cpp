@@ -46,8 +46,9 @@ std::string SlamParams::validate() const {
   if (!(o.map_voxel > 0.0 && o.map_voxel <= 5.0))
     return outOfRange("odometry.map_voxel", o.map_voxel, "(0, 5] metres");
   if (!(o.map_range > 1.0)) return outOfRange("odometry.map_range", o.map_range, "> 1 metre");
-  if (!(o.sweep_period > 0.0 && o.sweep_period <= 1.0))
-    return outOfRange("odometry.sweep_period", o.sweep_period, "(0, 1] seconds");
+  if (!(o.sweep_period >= 0.0 && o.sweep_period <= 1.0))
+    return outOfRange("odometry.sweep_period", o.sweep_period,
+                      "0 (from the scans' timestamps) or (0, 1] seconds");
   if (o.sweep_direction != -1 && o.sweep_direction != 1)
     return outOfRange("odometry.sweep_direction", o.sweep_direction,
                       "-1 (clockwise) or 1 (counter-clockwise)");

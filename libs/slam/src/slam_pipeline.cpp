@@ -50,6 +50,7 @@ void SlamPipeline::process(double time, const PointCloud& points,
     case PointTimeSource::kNone:
       break;
   }
+  if (step.sweep_period > 0.0) counters_.sweep_period = step.sweep_period;
   travelled_ += (last_odometry_.inverse() * step.pose).translation().norm();
   last_odometry_ = step.pose;
 

@@ -148,6 +148,13 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
       {"estimated_times_from_point_order", c.times_from_order},
       {"estimated_times_from_config", c.times_from_params},
       {"not_deskewed", c.frames - c.times_measured - c.times_from_order - c.times_from_params}};
+  // The revolution period the estimated times spanned: odometry.sweep_period, or (0, the
+  // default) the median interval between the scans' timestamps.
+  if (c.sweep_period > 0.0) {
+    report["deskew"]["sweep_period_s"] = c.sweep_period;
+    report["deskew"]["sweep_period_from"] =
+        pipeline.params().odometry.sweep_period > 0.0 ? "odometry.sweep_period" : "scan timestamps";
+  }
   // What the odometry estimates: "3d-levelled" (x, y, yaw registered, z, roll and pitch from
   // the ground, odometry.levelling), "3-dof" (the paper's planar odometry) or "6-dof" (the
   // joint solve, solver.dof = 6); and how many scans found a ground to level on.

@@ -4,6 +4,7 @@
 /// distortion can be undone like that of scans with measured times.
 #pragma once
 
+#include <deque>
 #include <vector>
 
 #include "dlo/core/point_cloud.h"
@@ -53,5 +54,32 @@ struct SweepTimingEstimate {
 /// \param times resized to points.size(), memory reused.
 SweepTimingEstimate estimateSweepTimes(const PointCloud& points, const SweepTimingParams& params,
                                        std::vector<float>& times);
+
+/**
+ * The revolution period of a spinning sensor read off its scans' timestamps: one scan per
+ * revolution, so the period is the interval between consecutive scans. Sensors that cut their
+ * sweeps at packet boundaries stamp them a packet early or late (a simulated VLP-16: intervals
+ * of 99.53 and 100.86 ms, in a pattern), so the period is the mean of every interval so far
+ * within 20 % of the median of the last kWindow: a dropped scan (two periods), a gap in the
+ * recording or a repeated stamp does not count. Intervals outside (0, 1] seconds are ignored.
+ */
+class SweepPeriodEstimate {
+ public:
+  static constexpr size_t kWindow = 21;
+
+  /// Takes the next scan's timestamp (seconds).
+  void add(double time);
+  /// Whether at least one interval has been seen.
+  bool known() const { return !recent_.empty(); }
+  /// The period, or `fallback` before the second scan.
+  double period(double fallback) const;
+
+ private:
+  std::deque<double> recent_;  ///< the last kWindow intervals
+  double sum_ = 0.0;           ///< of the intervals that counted
+  size_t counted_ = 0;
+  double last_ = 0.0;
+  bool has_last_ = false;
+};
 
 }  // namespace dlo

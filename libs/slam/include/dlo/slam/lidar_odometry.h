@@ -12,6 +12,7 @@
 #include "dlo/core/ground_surface.h"
 #include "dlo/core/height_frame.h"
 #include "dlo/core/local_height_map.h"
+#include "dlo/core/sweep_timing.h"
 #include "dlo/core/weighted_cloud.h"
 #include "dlo/slam/reference_model.h"
 #include "dlo/slam/slam_params.h"
@@ -38,13 +39,20 @@ enum class PointTimeSource {
   kFromParams  ///< estimated from azimuths, start and spin direction from odometry.sweep_*
 };
 
+/// The revolution period to estimate per-point times with: odometry.sweep_period when set,
+/// else `scans`' estimate from the timestamps (kDefaultSweepPeriod before the second scan).
+double sweepPeriod(const OdometryParams& params, const SweepPeriodEstimate& scans);
+/// Period assumed before a second scan's timestamp tells it (a 10 Hz sensor).
+constexpr double kDefaultSweepPeriod = 0.1;
+
 /// The per-point times to deskew `points` with, as the odometry takes them: `measured` when it
-/// has one per point, else (params.estimate_times) estimated from the azimuths into `buffer`;
-/// empty when params.deskew is off or `points` is. `source` says which.
+/// has one per point, else (params.estimate_times) estimated from the azimuths into `buffer`
+/// over a revolution of `period` seconds (sweepPeriod()); empty when params.deskew is off or
+/// `points` is. `source` says which.
 const std::vector<float>& pointTimesFor(const PointCloud& points,
                                         const std::vector<float>& measured,
-                                        const OdometryParams& params, std::vector<float>& buffer,
-                                        PointTimeSource& source);
+                                        const OdometryParams& params, double period,
+                                        std::vector<float>& buffer, PointTimeSource& source);
 
 /// The outcome of one scan.
 struct OdometryStep {
@@ -86,6 +94,8 @@ struct OdometryStep {
   Matrix6d ground_covariance = Matrix6d::Zero();
   /// Where the per-point times used for deskewing came from.
   PointTimeSource point_times = PointTimeSource::kNone;
+  /// With times estimated from azimuths: the revolution period they assumed (seconds).
+  double sweep_period = 0.0;
   bool new_keyframe = false;  ///< this scan became a keyframe
   /// The new keyframe's points (deskewed, vehicle frame, decimated to map_voxel within
   /// map_range); empty unless new_keyframe.
@@ -207,6 +217,7 @@ class LidarOdometry {
   PointCloud deskewed_;  ///< reference = scan_map: the scan deskewed, memory reused for every scan
   PointCloud near_;      ///< a keyframe's points within map_range, memory reused
   std::vector<float> estimated_times_;
+  SweepPeriodEstimate period_;  ///< the scans' timestamps, for odometry.sweep_period = 0
   const std::vector<float>* last_times_ =
       &estimated_times_;  ///< see lastPointTimes()  ///< sweepTimes() of scans without times,
                           ///< memory reused

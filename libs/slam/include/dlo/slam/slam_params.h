@@ -90,7 +90,10 @@ struct OdometryParams {
   /// estimated from the points' azimuths (dlo::estimateSweepTimes) and is deskewed like the
   /// others; false: such scans are used as they are.
   bool estimate_times = true;
-  double sweep_period = 0.1;  ///< seconds per revolution of the sensor (estimate_times)
+  /// Seconds per revolution of the sensor (estimate_times); 0: read off the scans' timestamps
+  /// (their mean interval, dropped scans and gaps left out: dlo::SweepPeriodEstimate), 0.1 s
+  /// until the second scan.
+  double sweep_period = 0.0;
   /// Spin direction, -1 clockwise seen from above (Velodyne, Ouster, Hesai) or +1; used when
   /// the point order does not reveal it (estimate_times).
   int sweep_direction = -1;

@@ -48,6 +48,8 @@ struct PipelineCounters {
   size_t times_measured = 0;
   size_t times_from_order = 0;
   size_t times_from_params = 0;
+  /// The revolution period the last scan with estimated times assumed (seconds; 0: none).
+  double sweep_period = 0.0;
   size_t loops_accepted = 0;
   size_t loops_rejected = 0;
   size_t optimisations = 0;
