@@ -300,11 +300,13 @@ double meanCost(const NormalEquations<N>& eq, size_t cells) {
 
 template <int N>
 AlignmentResult alignImpl(const SolverParams& p, const HeightFrame& reference,
-                          const HeightFrame& current, const Eigen::Isometry3d& initial_guess) {
+                          const HeightFrame& current, const Eigen::Isometry3d& initial_guess,
+                          int max_levels) {
   Stopwatch sw;
   AlignmentResult res;
   Eigen::Isometry3d T = initial_guess;
-  const int levels = static_cast<int>(std::min(reference.levels().size(), current.levels().size()));
+  int levels = static_cast<int>(std::min(reference.levels().size(), current.levels().size()));
+  if (max_levels > 0) levels = std::min(levels, max_levels);
   if (levels == 0) {
     res.degenerate = true;
     res.covariance = Matrix6d::Identity() * kUnobservedVariance;
@@ -389,7 +391,7 @@ double DirectAligner::cost(const HeightFrame& reference, const HeightFrame& curr
 DirectAligner::DirectAligner(const SolverParams& params) : params_(params) {}
 
 AlignmentResult DirectAligner::align(const HeightFrame& reference, const HeightFrame& current,
-                                     const Eigen::Isometry3d& initial_guess) const {
+                                     const Eigen::Isometry3d& initial_guess, int max_levels) const {
   if (!reference.canBeReference()) {
     throw std::invalid_argument(
         "DirectAligner::align: the reference frame was built FrameUse::kCurrentOnly");
@@ -398,8 +400,10 @@ AlignmentResult DirectAligner::align(const HeightFrame& reference, const HeightF
     throw std::invalid_argument(
         "DirectAligner::align: the current frame was built FrameUse::kReferenceOnly");
   }
-  if (params_.dof == 6) return alignImpl<6>(params_, reference, current, initial_guess);
-  return alignImpl<3>(params_, reference, current, initial_guess);
+  if (params_.dof == 6) {
+    return alignImpl<6>(params_, reference, current, initial_guess, max_levels);
+  }
+  return alignImpl<3>(params_, reference, current, initial_guess, max_levels);
 }
 
 }  // namespace dlo

@@ -71,8 +71,11 @@ class DirectAligner {
   /// Pose of `current` in `reference`, starting from `initial_guess`. Throws
   /// std::invalid_argument if `reference` was built FrameUse::kCurrentOnly or `current`
   /// FrameUse::kReferenceOnly.
+  /// \param max_levels at most this many pyramid levels, from the finest (0 or less: every
+  ///        level both frames have). A guess known to a few decimetres needs no coarser level,
+  ///        whose wider basin only adds wrong minima.
   AlignmentResult align(const HeightFrame& reference, const HeightFrame& current,
-                        const Eigen::Isometry3d& initial_guess) const;
+                        const Eigen::Isometry3d& initial_guess, int max_levels = 0) const;
 
   /// AlignmentResult::cost of `current` placed at `pose` in `reference`, without iterating.
   double cost(const HeightFrame& reference, const HeightFrame& current,
