@@ -201,7 +201,7 @@ int run(const Arguments& args) {
   std::signal(SIGTERM, onSignal);
   dlo::TimedScan scan;
   bool have = source->next(scan);
-  dlo::SensorProfileChoice profile{args.sensor_profile, "--sensor-profile"};
+  dlo::SensorProfileChoice profile{args.sensor_profile, "--sensor-profile", {}};
   if (auto_profile && have) {
     profile =
         dlo::chooseSensorProfile(dlo::sensorEvidence(scan.points, scan.beams, scan.sensor_pose));

@@ -246,14 +246,19 @@ int run(const Arguments& args) {
     }
     first.push_back(std::move(s));
   }
-  dlo::SensorProfileChoice profile{args.sensor_profile, "--sensor-profile"};
-  if (auto_profile && !first.empty()) {
+  dlo::SensorProfileChoice profile{args.sensor_profile, "--sensor-profile", {}};
+  if (!first.empty()) {
     const dlo::TimedScan& s = first.back();
-    profile = dlo::chooseSensorProfile(dlo::sensorEvidence(s.points, s.beams, s.sensor_pose));
-    params = dlo::resolveSlamParams(profile.name, layers);
-    if (!args.quiet) {
-      std::cerr << "dlo-slam: sensor profile " << profile.name << " (" << profile.reason << ").\n";
+    const dlo::SensorEvidence evidence = dlo::sensorEvidence(s.points, s.beams, s.sensor_pose);
+    if (auto_profile) {
+      profile = dlo::chooseSensorProfile(evidence);
+      params = dlo::resolveSlamParams(profile.name, layers);
+      if (!args.quiet) {
+        std::cerr << "dlo-slam: sensor profile " << profile.name << " (" << profile.reason
+                  << ").\n";
+      }
     }
+    profile.ceiling = dlo::applyVisibilityCeiling(params, evidence);
   }
   dlo::SlamPipeline slam(params);
   dlo::ProgressBar bar(0, "scans", !args.quiet);

@@ -151,5 +151,51 @@ TEST(RingCount, SimulatedSweepsShowTheirSensorsRingsSeenFromTheSensor) {
   }
 }
 
+TEST(VisibilityCeiling, IsWhatTheHighestBeamSeesAtTheGridsEdge) {
+  // Upper beams: HDL-64 +2 deg, HDL-32 +10.67 deg, VLP-16 +15 deg.
+  for (const auto& [type, top] :
+       {std::pair{sim::SensorType::VLP16, 15.0}, std::pair{sim::SensorType::HDL32, 10.67},
+        std::pair{sim::SensorType::HDL64, 2.0}}) {
+    Eigen::Isometry3d sensor_pose;
+    const PointCloud points = simulatedSweep(type, sensor_pose);
+    const SensorEvidence e = sensorEvidence(points, 0, sensor_pose);
+    EXPECT_NEAR(e.top_elevation_deg, top, 0.3) << top;
+    EXPECT_DOUBLE_EQ(e.sensor_height, sensor_pose.translation().z());
+    const std::string profile = chooseSensorProfile(e).name;
+    SlamParams p = resolveSlamParams(profile, {});
+    // Off in the sparse profile.
+    EXPECT_EQ(p.odometry.visibility_ceiling, profile == "dense") << top;
+    p.odometry.visibility_ceiling = true;
+    const double half_width = 0.5 * p.registration.grid.cols * p.registration.grid.resolution;
+    const double expected =
+        e.sensor_height + half_width * std::tan(e.top_elevation_deg * M_PI / 180);
+    const VisibilityCeiling c = applyVisibilityCeiling(p, e);
+    // The dense HDL-64 is cut 2.5 m above the ground; the sparse sensors, on their 60 m grid,
+    // see up to 7.5 m (HDL-32) and 10 m (VLP-16) at its edge.
+    if (profile == "dense") {
+      EXPECT_NEAR(c.max_z, 2.5, 0.05);
+    }
+    EXPECT_EQ(c.applied, expected < 10.0) << top;
+    EXPECT_NEAR(p.registration.grid.max_z, std::min(10.0, expected), 1e-9) << top;
+    EXPECT_DOUBLE_EQ(c.max_z, p.registration.grid.max_z);
+  }
+  // Off, or without evidence, nothing changes.
+  Eigen::Isometry3d sensor_pose;
+  const SensorEvidence e =
+      sensorEvidence(simulatedSweep(sim::SensorType::HDL64, sensor_pose), 0, sensor_pose);
+  SlamParams off;
+  off.odometry.visibility_ceiling = false;
+  EXPECT_FALSE(applyVisibilityCeiling(off, e).applied);
+  EXPECT_DOUBLE_EQ(off.registration.grid.max_z, SlamParams().registration.grid.max_z);
+  SlamParams none;
+  EXPECT_FALSE(applyVisibilityCeiling(none, SensorEvidence()).applied);
+  EXPECT_DOUBLE_EQ(none.registration.grid.max_z, SlamParams().registration.grid.max_z);
+  // The real HDL-64 of KITTI, in its own frame: its highest beams are about 3 deg up.
+  const PointCloud real = loadKittiBin(test::sharedData("kitti_00_000000.bin.gz"));
+  const SensorEvidence k = sensorEvidence(real, 0, Eigen::Isometry3d::Identity());
+  EXPECT_GT(k.top_elevation_deg, 1.5);
+  EXPECT_LT(k.top_elevation_deg, 4.0);
+}
+
 }  // namespace
 }  // namespace dlo

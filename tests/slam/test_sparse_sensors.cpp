@@ -72,7 +72,7 @@ ProfileRun runWithProfile(const Drive& d, const std::string& profile) {
   }
   run.profile = profile == "auto"
                     ? chooseSensorProfile(sensorEvidence(scan.points, 0, scan.sensor_pose))
-                    : SensorProfileChoice{profile, "the test"};
+                    : SensorProfileChoice{profile, "the test", {}};
   SlamPipeline slam(resolveSlamParams(run.profile.name, {}));
   do {
     slam.process(scan.timestampSeconds(), scan.points, scan.point_times);

@@ -2,6 +2,9 @@
 
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "dlo/files/error.h"
 #include "dlo/slam/slam_config.h"
 #include "sensor_profiles_data.h"
@@ -35,12 +38,47 @@ SensorEvidence sensorEvidence(const PointCloud& points, int beams,
   e.beams = beams;
   e.points = points.size();
   e.rings = estimateRings(points, sensor_pose.inverse().cast<float>());
+  e.sensor_height = sensor_pose.translation().z();
+  // Elevations in the vehicle frame from the sensor's position: the grid's heights are the
+  // vehicle frame's.
+  const Eigen::Vector3f origin = sensor_pose.translation().cast<float>();
+  std::vector<float> elevation;
+  elevation.reserve(points.size());
+  for (const Eigen::Vector3f& p : points) {
+    const Eigen::Vector3f d = p - origin;
+    const float horizontal = d.head<2>().norm();
+    if (!(horizontal >= 3.0f && horizontal <= 120.0f) || !std::isfinite(d.z())) continue;
+    elevation.push_back(std::atan2(d.z(), horizontal));
+  }
+  if (elevation.size() >= 1000) {
+    const auto at = elevation.begin() + static_cast<std::ptrdiff_t>(0.995 * (elevation.size() - 1));
+    std::nth_element(elevation.begin(), at, elevation.end());
+    e.top_elevation_deg = static_cast<double>(*at) * 180.0 / M_PI;
+  }
   return e;
+}
+
+VisibilityCeiling applyVisibilityCeiling(SlamParams& params, const SensorEvidence& e) {
+  HeightGridParams& g = params.registration.grid;
+  VisibilityCeiling c;
+  c.sensor_height = e.sensor_height;
+  c.top_elevation_deg = e.top_elevation_deg;
+  c.max_z = g.max_z;
+  if (!params.odometry.visibility_ceiling || !std::isfinite(e.top_elevation_deg)) return c;
+  const double half_width = 0.5 * std::min(g.cols, g.rows) * g.resolution;
+  const double top = std::clamp(e.top_elevation_deg, -60.0, 60.0) * M_PI / 180.0;
+  const double ceiling = e.sensor_height + half_width * std::tan(top);
+  if (ceiling < g.max_z && ceiling > g.min_z) {
+    g.max_z = ceiling;
+    c.max_z = ceiling;
+    c.applied = true;
+  }
+  return c;
 }
 
 SensorProfileChoice chooseSensorProfile(const SensorEvidence& e) {
   const auto pick = [](bool sparse, std::string reason) {
-    return SensorProfileChoice{sparse ? "sparse" : "dense", std::move(reason)};
+    return SensorProfileChoice{sparse ? "sparse" : "dense", std::move(reason), {}};
   };
   if (e.beams > 0) {
     return pick(e.beams < kSparseRings,

@@ -32,6 +32,12 @@ std::vector<ParamField<SlamParams>> fields() {
                  "trajectory); false: z, roll and pitch kept as predicted (the paper's planar "
                  "3-DoF); ignored with solver.dof = 6, which solves all six jointly",
                  booleanNames()),
+      paramField("odometry", "visibility_ceiling", &S::odometry, &O::visibility_ceiling,
+                 "true: heights above what the sensor sees everywhere on the grid are left out "
+                 "(grid.max_z lowered to the sensor's height + half the grid's width x tan(its "
+                 "highest beam), read off the first scan), so that a wall has the same mean "
+                 "height from every range; false: grid.max_z as set (the sparse profile)",
+                 booleanNames()),
       paramField("odometry", "local_map_keyframes", &S::odometry, &O::local_map_keyframes,
                  "keyframes fused into the local map (reference = keyframe_map)"),
       paramField("odometry", "local_map_scans", &S::odometry, &O::local_map_scans,

@@ -164,6 +164,15 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
                                                    : "3-dof";
   report["estimation"] = {{"dof", dof}, {"levelled_frames", c.levelled_frames}};
   report["sensor_profile"] = {{"name", profile.name}, {"chosen_because", profile.reason}};
+  // The heights the grids keep (odometry.visibility_ceiling): what the sensor sees everywhere
+  // on the grid, from its height and its highest beam.
+  const VisibilityCeiling& vc = profile.ceiling;
+  report["visibility_ceiling"] = {{"applied", vc.applied},
+                                  {"grid_max_z_m", vc.max_z},
+                                  {"sensor_height_m", vc.sensor_height},
+                                  {"top_elevation_deg", std::isfinite(vc.top_elevation_deg)
+                                                            ? nlohmann::json(vc.top_elevation_deg)
+                                                            : nlohmann::json(nullptr)}};
   report["empty_frames"] = c.empty_frames;
   // Peak of the whole run so far (processing and export); the samples show how resident memory
   // evolved with the scans and how much of it the keyframes hold.

@@ -4,6 +4,7 @@
 /// scan shows; and the layering of a run's configuration (profile, then --config, then --set).
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,20 @@ struct SensorEvidence {
   int beams = 0;       ///< lasers, as the input names them (sensor model, ring channel); 0: unknown
   RingEstimate rings;  ///< the rings the first scan shows (dlo::estimateRings)
   size_t points = 0;   ///< points of the first scan
+  /// Height of the sensor in the vehicle frame (the z of its pose), metres.
+  double sensor_height = 0.0;
+  /// The elevation of the sensor's highest beam, degrees above the horizontal, seen from the
+  /// sensor: the 99.5th percentile of the points 3 to 120 m away horizontally; NaN with fewer
+  /// than 1000 of them.
+  double top_elevation_deg = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// The height band a run's grids keep (OdometryParams::visibility_ceiling).
+struct VisibilityCeiling {
+  bool applied = false;  ///< grid.max_z was lowered
+  double max_z = 0.0;    ///< grid.max_z in use, metres (vehicle frame)
+  double sensor_height = 0.0;
+  double top_elevation_deg = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The profile a run uses and why.
@@ -41,6 +56,7 @@ struct SensorProfileChoice {
   /// How it was chosen, one phrase for report.json: "the input's sensor has 16 beams", "the
   /// first scan shows 64 rings", "the first scan has 26000 points", "--sensor-profile".
   std::string reason;
+  VisibilityCeiling ceiling;  ///< as applyVisibilityCeiling() left it
 };
 
 /// The evidence of one scan: `beams` as the input gives it, the rings of `points` seen from the
@@ -52,6 +68,14 @@ SensorEvidence sensorEvidence(const PointCloud& points, int beams,
 /// of the first scan where they are clear (RingEstimate::reliable()), else from its point count
 /// (fewer than 80,000 points per sweep: sparse), the weakest evidence.
 SensorProfileChoice chooseSensorProfile(const SensorEvidence& evidence);
+
+/// With params.odometry.visibility_ceiling, lowers params.registration.grid.max_z to the
+/// height the sensor sees up to at the grid's edge: sensor_height + (half the grid's narrower
+/// side) x tan(top_elevation_deg), so that every cell's height band is seen whole from anywhere
+/// on the grid (a simulated HDL-64 on a 40 m grid: 2.5 m above the ground; a VLP-16 or a
+/// 128-beam sensor on the sparse profile's 60 m grid: about 10 m, as the usual band). No-op
+/// when the evidence has no top elevation or the ceiling is off (the sparse profile).
+VisibilityCeiling applyVisibilityCeiling(SlamParams& params, const SensorEvidence& evidence);
 
 /// A run's configuration below the profile: an INI file and "section.key=value" overrides.
 struct SlamConfigLayers {

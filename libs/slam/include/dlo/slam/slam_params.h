@@ -30,6 +30,15 @@ struct OdometryParams {
   /// predicted, the paper's planar 3-DoF odometry. solver.dof = 6 solves all six jointly and
   /// ignores this.
   bool levelling = true;
+  /// true: heights above what the sensor sees everywhere on the registration grid are left out
+  /// (grid.max_z lowered to the sensor's height plus half the grid's width times the tangent of
+  /// its highest beam, both read off the first scan: dlo::applyVisibilityCeiling). A wall then
+  /// has the same mean height from every range within the grid, instead of growing with the
+  /// distance as an HDL-64's +2 deg beam climbs it, which pulls registrations towards zero
+  /// motion. Applied by dlo-slam, which knows the sensor's pose; dlo-localize keeps whole
+  /// heights, as the map it reads does. Off in the sparse profile (config/sensors/sparse.ini):
+  /// sparse sensors look up 10-15 deg and see walls whole from most ranges.
+  bool visibility_ceiling = true;
   int local_map_keyframes = 4;  ///< keyframes fused into the local map (reference = keyframe_map)
   /// Registered scans in the local height map (reference = scan_map). Fewer scans let a wrongly
   /// placed one leave the map sooner; enough of them cover the ground between a sparse
