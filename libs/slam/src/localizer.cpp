@@ -324,10 +324,7 @@ bool Localizer::search(const Eigen::Isometry3d* prediction, Eigen::Isometry3d& f
   // reaches 1.6 m) and scored as tracking scores it: a coarse grid alone ranked the right place
   // nowhere near the top (simulated town: RMS 0.21 at wrong places, where the full resolution
   // separates 0.38 at the right one from 0.74 and more elsewhere).
-  struct Basin {
-    Fit fit;  ///< the best-fitting registration that ended there
-  };
-  std::vector<Basin> basins;
+  std::vector<Fit> basins;  // per distinct place, the best-fitting registration that ended there
   const int yaws = std::max(1, static_cast<int>(std::lround(360.0 / params_.search_yaw_step_deg)));
   std::vector<Eigen::Vector2d> tried;
   for (size_t i = 0; i < map_.size(); ++i) {
@@ -345,19 +342,18 @@ bool Localizer::search(const Eigen::Isometry3d* prediction, Eigen::Isometry3d& f
       const Fit f = fit(start, Start::kSearch);
       if (f.degenerate) continue;
       auto same = std::find_if(basins.begin(), basins.end(),
-                               [&](const Basin& b) { return !distinct(b.fit.pose, f.pose); });
+                               [&](const Fit& b) { return !distinct(b.pose, f.pose); });
       if (same == basins.end()) {
-        basins.push_back(Basin{f});
-      } else if (f.cost < same->fit.cost) {
-        same->fit = f;
+        basins.push_back(f);
+      } else if (f.cost < same->cost) {
+        *same = f;
       }
     }
   }
   if (basins.size() < kMinBasins) return false;
-  const auto best =
-      std::min_element(basins.begin(), basins.end(),
-                       [](const Basin& a, const Basin& b) { return a.fit.cost < b.fit.cost; });
-  if (!best->fit.believable) return false;
+  const auto best = std::min_element(basins.begin(), basins.end(),
+                                     [](const Fit& a, const Fit& b) { return a.cost < b.cost; });
+  if (!best->believable) return false;
   // The right place fits clearly better than the map's other places do, and no other place
   // nearly as well (parallel streets, a repeated facade): otherwise the next scans search
   // again. Compared by cost, which counts the cells that found no map: a sparse VLP-16 sweep
@@ -365,12 +361,11 @@ bool Localizer::search(const Eigen::Isometry3d* prediction, Eigen::Isometry3d& f
   // place and 35-45 % elsewhere. Simulated HDL-64 second days: the right place costs 0.024-0.030,
   // the next distinct place 1.5-2.3 times more, the median place 2.6-3.5 times more.
   std::vector<double> costs;
-  for (const Basin& b : basins) costs.push_back(b.fit.cost);
+  for (const Fit& b : basins) costs.push_back(b.cost);
   std::nth_element(costs.begin(), costs.begin() + costs.size() / 2, costs.end());
-  if (!(best->fit.cost * params_.search_contrast <= costs[costs.size() / 2])) return false;
-  for (const Basin& b : basins) {
-    if (distinct(b.fit.pose, best->fit.pose) &&
-        b.fit.cost < best->fit.cost * params_.ambiguity_ratio) {
+  if (!(best->cost * params_.search_contrast <= costs[costs.size() / 2])) return false;
+  for (const Fit& b : basins) {
+    if (distinct(b.pose, best->pose) && b.cost < best->cost * params_.ambiguity_ratio) {
       return false;
     }
   }
@@ -378,17 +373,17 @@ bool Localizer::search(const Eigen::Isometry3d* prediction, Eigen::Isometry3d& f
   // found: the fit where the prediction stands, unmoved, against the fit there (a corridor
   // whose scans fit poorly for a few metres found a place 2.7 m along the road otherwise; after
   // a kidnapping the prediction fits badly).
-  if (prediction && distinct(*prediction, best->fit.pose)) {
+  if (prediction && distinct(*prediction, best->pose)) {
     referenceAround(*prediction, true);
     const double at_prediction =
         aligner_.cost(reference_, current_, reference_pose_.inverse() * *prediction);
-    referenceAround(best->fit.pose, true);
+    referenceAround(best->pose, true);
     const double at_best =
-        aligner_.cost(reference_, current_, reference_pose_.inverse() * best->fit.pose);
+        aligner_.cost(reference_, current_, reference_pose_.inverse() * best->pose);
     if (!(at_best * params_.ambiguity_ratio <= at_prediction)) return false;
   }
-  best_rms = best->fit.rms;
-  found = best->fit.pose;
+  best_rms = best->rms;
+  found = best->pose;
   return true;
 }
 

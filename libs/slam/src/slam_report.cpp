@@ -149,7 +149,7 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
       {"estimated_times_from_config", c.times_from_params},
       {"not_deskewed", c.frames - c.times_measured - c.times_from_order - c.times_from_params}};
   // The revolution period the estimated times spanned: odometry.sweep_period, or (0, the
-  // default) the median interval between the scans' timestamps.
+  // default) read off the scans' timestamps (dlo::SweepPeriodEstimate).
   if (c.sweep_period > 0.0) {
     report["deskew"]["sweep_period_s"] = c.sweep_period;
     report["deskew"]["sweep_period_from"] =

@@ -216,11 +216,9 @@ class LidarOdometry {
   bool ground_fitted_ = false;  ///< ground_ is that of current_ as last built
   PointCloud deskewed_;  ///< reference = scan_map: the scan deskewed, memory reused for every scan
   PointCloud near_;      ///< a keyframe's points within map_range, memory reused
-  std::vector<float> estimated_times_;
-  SweepPeriodEstimate period_;  ///< the scans' timestamps, for odometry.sweep_period = 0
-  const std::vector<float>* last_times_ =
-      &estimated_times_;  ///< see lastPointTimes()  ///< sweepTimes() of scans without times,
-                          ///< memory reused
+  std::vector<float> estimated_times_;  ///< sweepTimes() of scans without times, memory reused
+  SweepPeriodEstimate period_;          ///< the scans' timestamps, for odometry.sweep_period = 0
+  const std::vector<float>* last_times_ = &estimated_times_;  ///< see lastPointTimes()
   /// What scans are registered against (odometry.reference).
   ReferenceModelPtr reference_;
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
