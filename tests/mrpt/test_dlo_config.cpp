@@ -25,6 +25,7 @@ void expectSameParams(const DloParams& a, const DloParams& b) {
   EXPECT_EQ(a.selection.block_size, b.selection.block_size);
   EXPECT_EQ(a.selection.max_cells, b.selection.max_cells);
   EXPECT_EQ(a.selection.ground_stride, b.selection.ground_stride);
+  EXPECT_EQ(a.selection.centroid_levels, b.selection.centroid_levels);
   EXPECT_EQ(a.solver.dof, b.solver.dof);
   EXPECT_EQ(a.solver.max_iterations, b.solver.max_iterations);
   EXPECT_EQ(a.solver.huber_delta, b.solver.huber_delta);
@@ -51,6 +52,7 @@ DloParams nonDefaultParams() {
   p.selection.block_size = 4;
   p.selection.max_cells = 5000;
   p.selection.ground_stride = 8;
+  p.selection.centroid_levels = 1;
   p.solver.dof = 6;
   p.solver.max_iterations = 25;
   p.solver.huber_delta = 0.2;
@@ -79,6 +81,7 @@ min_gradient = 0.33333333333333331
 block_size = 4
 max_cells = 5000
 ground_stride = 8
+centroid_levels = 1
 
 [solver]
 dof = 6
@@ -222,7 +225,7 @@ TEST(DloConfig, DumpHasOneCommentLinePerKey) {
     }
     previous = line;
   }
-  EXPECT_EQ(keys, 21);
+  EXPECT_EQ(keys, 22);
 }
 
 TEST(DloConfig, SaveThenLoadGivesTheSameParams) {

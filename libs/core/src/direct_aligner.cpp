@@ -256,13 +256,70 @@ Matrix6d toTwistCovariance(const Eigen::Matrix<double, N, N>& c) {
 /// interpolant, and on real scans the fixed point of those equations is the more accurate
 /// estimate (measured: 2 mm against 14 mm on the KITTI split test). So steps are contracted
 /// instead: whenever a step points back against the previous one, later steps are halved.
+/// The current level's cells as they are compared with the reference: each at the centroid of
+/// its points, and read in the reference where the reference's own cells' centroids put that
+/// place (the offsets interpolated bilinearly there), when both frames have their offsets;
+/// otherwise the cells as selected, at their centres.
+const std::vector<SelectedCell>& placed(const FrameLevel& ref, const FrameLevel& cur,
+                                        const Eigen::Isometry3d& T) {
+  if (ref.grid_offsets.empty() || cur.cell_offsets.size() != cur.cells.size()) return cur.cells;
+  thread_local std::vector<SelectedCell> scratch;
+  scratch.resize(cur.cells.size());
+  const Eigen::Matrix3f R = T.linear().cast<float>();
+  const Eigen::Vector3f t = T.translation().cast<float>();
+  const GridGeometry& geo = ref.grid.geometry();
+  const auto offset = [&](int r, int c) {
+    return r < 0 || c < 0 || r >= geo.rows || c >= geo.cols
+               ? Eigen::Vector2f::Zero()
+               : ref.grid_offsets[static_cast<size_t>(r * geo.cols + c)];
+  };
+  for (size_t i = 0; i < cur.cells.size(); ++i) {
+    SelectedCell c = cur.cells[i];
+    c.x += cur.cell_offsets[i].x();
+    c.y += cur.cell_offsets[i].y();
+    const Eigen::Vector3f q = R * Eigen::Vector3f(c.x, c.y, c.h) + t;
+    // The reference's cells stand at their centroids, centre + offset: the lattice of centres
+    // deformed by the offsets, interpolated bilinearly. The place p of the regular lattice that
+    // this deformation takes to q, p + offset(p) = q, by Newton's method (the bilinear
+    // interpolant of heights at p is then the deformed lattice's at q).
+    const Eigen::Vector2f target = q.head<2>();
+    Eigen::Vector2f at = target;
+    const float inv_res = static_cast<float>(1.0 / geo.resolution);
+    for (int it = 0; it < 4; ++it) {
+      const double u = geo.u(at.x()) - 0.5, v = geo.v(at.y()) - 0.5;
+      const int c0 = static_cast<int>(std::floor(u)), r0 = static_cast<int>(std::floor(v));
+      const float fu = static_cast<float>(u - c0), fv = static_cast<float>(v - r0);
+      const Eigen::Vector2f d00 = offset(r0, c0), d10 = offset(r0, c0 + 1);
+      const Eigen::Vector2f d01 = offset(r0 + 1, c0), d11 = offset(r0 + 1, c0 + 1);
+      const Eigen::Vector2f d =
+          (1 - fv) * ((1 - fu) * d00 + fu * d10) + fv * ((1 - fu) * d01 + fu * d11);
+      const Eigen::Vector2f e = at + d - target;
+      if (e.squaredNorm() < 1e-10f) break;
+      Eigen::Matrix2f J = Eigen::Matrix2f::Identity();
+      J.col(0) += ((1 - fv) * (d10 - d00) + fv * (d11 - d01)) * inv_res;
+      J.col(1) += ((1 - fu) * (d01 - d00) + fu * (d11 - d10)) * inv_res;
+      if (J.determinant() < 0.1f) break;  // centroids (nearly) folded over: no inverse
+      Eigen::Vector2f step = J.inverse() * e;
+      const float limit = 0.5f * static_cast<float>(geo.resolution);
+      if (step.norm() > limit) step *= limit / step.norm();
+      at -= step;
+    }
+    const Eigen::Vector2f d = target - at;
+    // Moved by -d in the reference: by -R^T d in the scan.
+    const Eigen::Vector3f back = R.transpose() * Eigen::Vector3f(d.x(), d.y(), 0.0f);
+    c.x -= back.x();
+    c.y -= back.y();
+    scratch[i] = c;
+  }
+  return scratch;
+}
+
 template <int N>
 bool refine(const SolverParams& p, const HeightFrame& reference, const HeightFrame& current,
             int coarsest, int finest, Eigen::Isometry3d& T, int& iterations) {
   bool converged = false;
   for (int level = coarsest; level >= finest; --level) {
     const HeightSampler& sampler = reference.levels()[level].sampler;
-    const std::vector<SelectedCell>& cells = current.levels()[level].cells;
     // Coarse cells average more terrain: widen the robust kernel and the step criterion with
     // the cell size.
     const double scale = static_cast<double>(1 << level);
@@ -278,7 +335,9 @@ bool refine(const SolverParams& p, const HeightFrame& reference, const HeightFra
     Vector6d previous = Vector6d::Zero();
     converged = false;
     for (int it = 0; it < p.max_iterations && !converged; ++it) {
-      const NormalEquations<N> eq = linearise<N>(sampler, cells, T, delta, p.max_residual);
+      const NormalEquations<N> eq =
+          linearise<N>(sampler, placed(reference.levels()[level], current.levels()[level], T), T,
+                       delta, p.max_residual);
       const ConditionedSystem<N> sys(eq, p, kMinResiduals<N>);
       Vector6d xi = toTwist<N>(sys.step(0.0));
       // A step that turns back on the previous one is the signature of a limit cycle.
@@ -342,16 +401,17 @@ AlignmentResult alignImpl(const SolverParams& p, const HeightFrame& reference,
   // stays above 0.05 on both. The reverse also happens: a sparse VLP-16 scan can be weak at
   // 0.1 m (ratio 0.015) and well observed at 0.2 m (0.035 and more); such a result is flagged
   // and its covariance inflated along what the finest level misses, but its estimate is kept.
-  const NormalEquations<N> eq = linearise<N>(
-      reference.levels()[0].sampler, current.levels()[0].cells, T, p.huber_delta, p.max_residual);
+  const NormalEquations<N> eq = linearise<N>(reference.levels()[0].sampler,
+                                             placed(reference.levels()[0], current.levels()[0], T),
+                                             T, p.huber_delta, p.max_residual);
   const ConditionedSystem<N> sys(eq, p, p.min_cells);
   Eigen::Matrix<double, N, N> unobserved = sys.unobservable();  // to keep at the prior
   Eigen::Matrix<double, N, N> uncertain = unobserved;           // to flag, variance 1e6
   res.information_ratio = sys.informationRatio();
   if (levels > 1) {
-    const NormalEquations<N> eq1 =
-        linearise<N>(reference.levels()[1].sampler, current.levels()[1].cells, T,
-                     2.0 * p.huber_delta, p.max_residual);
+    const NormalEquations<N> eq1 = linearise<N>(
+        reference.levels()[1].sampler, placed(reference.levels()[1], current.levels()[1], T), T,
+        2.0 * p.huber_delta, p.max_residual);
     const ConditionedSystem<N> coarse(eq1, p, p.min_cells);
     unobserved = coarse.unobservable();
     uncertain = unobservableOfEither(sys, coarse);
@@ -381,7 +441,7 @@ AlignmentResult alignImpl(const SolverParams& p, const HeightFrame& reference,
 double DirectAligner::cost(const HeightFrame& reference, const HeightFrame& current,
                            const Eigen::Isometry3d& pose) const {
   if (reference.levels().empty() || current.levels().empty()) return 0.0;
-  const std::vector<SelectedCell>& cells = current.levels()[0].cells;
+  const std::vector<SelectedCell>& cells = placed(reference.levels()[0], current.levels()[0], pose);
   const HeightSampler& sampler = reference.levels()[0].sampler;
   const double d = params_.huber_delta, m = params_.max_residual;
   return params_.dof == 6 ? meanCost(linearise<6>(sampler, cells, pose, d, m), cells.size())

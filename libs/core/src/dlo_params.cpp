@@ -23,6 +23,8 @@ std::string DloParams::validate() const {
     return outOfRange("selection.block_size", selection.block_size, "1..64");
   if (selection.max_cells < 1)
     return outOfRange("selection.max_cells", selection.max_cells, "a positive count");
+  if (selection.centroid_levels < 0)
+    return outOfRange("selection.centroid_levels", selection.centroid_levels, "0 (off) or more");
   if (selection.ground_stride < 0)
     return outOfRange("selection.ground_stride", selection.ground_stride, "0 (off) or more");
   if (solver.dof != 3 && solver.dof != 6) return outOfRange("solver.dof", solver.dof, "3 or 6");

@@ -126,6 +126,54 @@ void rasteriseWeighted(const WeightedCloud& points, const Eigen::Isometry3d& pos
 
 }  // namespace
 
+void mapSweepToCells(const PointCloud& points, const SweepMotion& motion,
+                     const GridGeometry& geometry, double min_z, double max_z,
+                     const std::function<void(const int* cells, const RowMajorPose* const* poses,
+                                              size_t first, size_t n)>& visit) {
+  // rasteriseSweep()'s mapping: the same runs of time bins and poses, so the same cells.
+  const CellMapper mapper(geometry, min_z, max_z);
+  const bool moving = motion.fits(points.size());
+  const RowMajorPose identity;
+  int idx[kBatch];
+  float z[kBatch];
+  int bin[kBatch];
+  const RowMajorPose* poses[kBatch];
+  for (size_t first = 0; first < points.size(); first += kBatch) {
+    const size_t n = std::min(kBatch, points.size() - first);
+    const Eigen::Vector3f* p = points.data() + first;
+    if (!moving) {
+      mapper.map(p, n, identity, idx, z);
+      std::fill(poses, poses + n, &identity);
+    } else {
+      motion.bins(motion.times().data() + first, n, bin);
+      for (size_t k = 0; k < n;) {
+        const size_t end = binRunEnd(bin, k, n);
+        const RowMajorPose& pose = motion.pose(bin[k]);
+        mapper.map(p + k, end - k, pose, idx + k, z + k);
+        std::fill(poses + k, poses + end, &pose);
+        k = end;
+      }
+    }
+    visit(idx, poses, first, n);
+  }
+}
+
+void mapWeightedToCells(
+    const WeightedCloud& points, const Eigen::Isometry3d& pose, const GridGeometry& geometry,
+    double min_z, double max_z,
+    const std::function<void(const int* cells, size_t first, size_t n)>& visit) {
+  const RowMajorPose m(pose.cast<float>());
+  const CellMapper mapper(geometry, min_z, max_z);
+  int idx[kBatch];
+  float z[kBatch];
+  std::uint32_t w[kBatch];
+  for (size_t first = 0; first < points.size(); first += kBatch) {
+    const size_t n = std::min(kBatch, points.size() - first);
+    mapper.map(points.data() + first, n, m, idx, z, w);
+    visit(idx, first, n);
+  }
+}
+
 void HeightGrid::rasterise(const PointCloud& points, const GridGeometry& geometry, int min_points,
                            double min_z, double max_z) {
   rasterise(points, SweepMotion(), geometry, min_points, min_z, max_z);

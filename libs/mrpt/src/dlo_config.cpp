@@ -40,6 +40,11 @@ const std::vector<ParamField<DloParams>>& fields() {
       field("selection", "ground_stride", &D::selection, &S::ground_stride,
             "6-DoF only: also take every n-th valid cell (any gradient) to observe z, roll and "
             "pitch from the ground; 0 disables"),
+      field("selection", "centroid_levels", &D::selection, &S::centroid_levels,
+            "the finest levels whose cells are compared where their points are (their "
+            "centroids), in the scan and the reference alike, so that a cell a spinning "
+            "sensor's ring samples on one side (a kerb's edge) is not biased by the part it did "
+            "not see; 0: at the cells' centres (the paper)"),
       field("solver", "dof", &D::solver, &V::dof,
             "3 (x, y, yaw) or 6 (full SE(3), z, roll and pitch observed from the ground)"),
       field("solver", "max_iterations", &D::solver, &V::max_iterations, "per pyramid level"),

@@ -132,7 +132,12 @@ void nearPoints(const PointCloud& points, const SweepMotion& motion, double rang
 LidarOdometry::LidarOdometry(const SlamParams& params)
     : params_(params),
       aligner_(params.registration.solver),
-      reference_(ReferenceModel::make(params)) {}
+      reference_(ReferenceModel::make(params)) {
+  // The scan map (dlo::LocalHeightMap) keeps no centroids of its cells: a scan's cells are
+  // compared with it at their centres, as the map's are (HeightFrame::placeCellsOnPoints()).
+  if (params_.odometry.reference == Reference::kScanMap)
+    params_.registration.selection.centroid_levels = 0;
+}
 
 OdometryStep LidarOdometry::process(double time, const PointCloud& points,
                                     const std::vector<float>& point_times) {

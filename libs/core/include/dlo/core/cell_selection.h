@@ -16,6 +16,10 @@ struct SelectionParams {
   int max_cells = 6000;       ///< cap on gradient cells per level; thinned evenly beyond it
   int ground_stride = 6;      ///< 6-DoF only: also take every n-th valid cell (any gradient) to
                               ///< observe z, roll and pitch from the ground; 0 disables
+  /// The finest levels whose cells stand at the centroids of their points, in the scan and in
+  /// the reference alike (a cell's mean height is measured where its points are, not at its
+  /// centre); 0: every cell at its centre (the paper). See HeightFrame::placeCellsOnPoints().
+  int centroid_levels = 2;
 };
 
 /// A selected cell: its centre in the grid frame and its mean height.

@@ -162,4 +162,20 @@ class HeightGrid {
   std::vector<std::uint8_t> support_;
 };
 
+/// The cells that HeightGrid::rasterise(points, motion, geometry, ...) puts the points of a sweep
+/// in: visit(cells, poses, first, n) for each batch of points first..first + n, where cells[k]
+/// is point first + k's row-major cell index in `geometry` (geometry.cellCount() or more for a
+/// point that rasterisation discards: outside the grid or [min_z, max_z], not finite) and
+/// *poses[k] the pose that moves it where rasterisation counts it (RowMajorPose::operator*).
+void mapSweepToCells(const PointCloud& points, const SweepMotion& motion,
+                     const GridGeometry& geometry, double min_z, double max_z,
+                     const std::function<void(const int* cells, const RowMajorPose* const* poses,
+                                              size_t first, size_t n)>& visit);
+
+/// The same for weighted points seen from `pose`, as HeightGrid::rasterise(parts, ...) maps
+/// them: visit(cells, first, n).
+void mapWeightedToCells(const WeightedCloud& points, const Eigen::Isometry3d& pose,
+                        const GridGeometry& geometry, double min_z, double max_z,
+                        const std::function<void(const int* cells, size_t first, size_t n)>& visit);
+
 }  // namespace dlo
