@@ -116,6 +116,7 @@ TEST(PointCentroids, OffsetsAreTheCentroidsOfTheCellsPoints) {
   params.grid.min_points = 1;
   params.selection.min_gradient = 0.0;
   params.selection.block_size = 1;
+  params.selection.centroid_levels = 2;
   const PointCloud points = {{0.02f, 0.01f, 0.0f}, {0.04f, 0.03f, 0.0f}, {0.55f, 0.55f, 1.0f}};
   const HeightFrame f = HeightFrame::fromPoints(points, params.grid, params.selection, false);
   const FrameLevel& level = f.levels()[0];
@@ -125,7 +126,7 @@ TEST(PointCentroids, OffsetsAreTheCentroidsOfTheCellsPoints) {
   const Eigen::Vector2f off = level.grid_offsets[static_cast<size_t>(r * geo.cols + c)];
   EXPECT_NEAR(off.x(), 0.03 - geo.cellCentreX(c), 1e-6);
   EXPECT_NEAR(off.y(), 0.02 - geo.cellCentreY(r), 1e-6);
-  // Levels beyond centroid_levels (2 by default) keep their cells at their centres.
+  // Levels beyond centroid_levels keep their cells at their centres.
   EXPECT_FALSE(f.levels()[1].grid_offsets.empty());
   EXPECT_TRUE(f.levels()[2].grid_offsets.empty());
   // Selected cells carry their offsets too.

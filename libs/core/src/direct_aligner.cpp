@@ -335,6 +335,7 @@ bool refine(const SolverParams& p, const HeightFrame& reference, const HeightFra
     Vector6d previous = Vector6d::Zero();
     converged = false;
     for (int it = 0; it < p.max_iterations && !converged; ++it) {
+      // Where the cells stand in the reference follows the pose (placed()).
       const NormalEquations<N> eq =
           linearise<N>(sampler, placed(reference.levels()[level], current.levels()[level], T), T,
                        delta, p.max_residual);

@@ -182,14 +182,20 @@ void HeightFrame::placeGrid(size_t n_levels,
 void HeightFrame::placeCellsOnPoints(const PointCloud& points, const SweepMotion& motion,
                                      const HeightGridParams& grid, size_t n_levels) {
   slot_of_cell_.resize(n_levels);
-  selected_bits_.resize(n_levels);
   centroid_sums_.resize(n_levels);
   const auto cellOf = [](const GridGeometry& geo, const SelectedCell& cell) {
     return static_cast<size_t>(static_cast<int>(geo.v(cell.y)) * geo.cols +
                                static_cast<int>(geo.u(cell.x)));
   };
-  // Per level, a bit per cell (small enough for the cache: most points fall in no selected
-  // cell) and the selected cell's index.
+  // Per level, the selected cell of each grid cell; and a bit per cell of level 0, set where a
+  // selected cell of any level covers it (small enough for the cache: most points fall in no
+  // selected cell, and only those in one need their row and column).
+  const GridGeometry& finest = levels_[0].grid.geometry();
+  const int cells0 = finest.cellCount();
+  const double inv_cols = 1.0 / finest.cols;
+  std::vector<std::uint64_t>& covered = covered_bits_;
+  covered.assign((static_cast<size_t>(cells0) + 63) / 64, 0);
+  selected_bits_.resize(n_levels);
   for (size_t k = 0; k < n_levels; ++k) {
     const FrameLevel& level = levels_[k];
     const GridGeometry& geo = level.grid.geometry();
@@ -198,37 +204,44 @@ void HeightFrame::placeCellsOnPoints(const PointCloud& points, const SweepMotion
     if (slots.size() != cells) slots.assign(cells, -1);
     selected_bits_[k].assign((cells + 63) / 64, 0);
     centroid_sums_[k].assign(level.cells.size(), Eigen::Vector3d::Zero());
+    const int side = 1 << k;
     for (size_t i = 0; i < level.cells.size(); ++i) {
       const size_t c = cellOf(geo, level.cells[i]);
       slots[c] = static_cast<int>(i);
       selected_bits_[k][c / 64] |= std::uint64_t{1} << (c % 64);
+      const int r = static_cast<int>(c) / geo.cols, col = static_cast<int>(c) % geo.cols;
+      for (int r0 = r * side; r0 < std::min(finest.rows, (r + 1) * side); ++r0) {
+        for (int c0 = col * side; c0 < std::min(finest.cols, (col + 1) * side); ++c0) {
+          const size_t b = static_cast<size_t>(r0 * finest.cols + c0);
+          covered[b / 64] |= std::uint64_t{1} << (b % 64);
+        }
+      }
     }
   }
-  const GridGeometry& finest = levels_[0].grid.geometry();
-  const int cells0 = finest.cellCount();
-  mapSweepToCells(
-      points, motion, finest, grid.min_z, grid.max_z,
-      [&](const int* cells, const RowMajorPose* const* poses, size_t first, size_t n) {
-        for (size_t j = 0; j < n; ++j) {
-          if (cells[j] >= cells0) continue;
-          const int c0 = cells[j] % finest.cols, r0 = cells[j] / finest.cols;
-          bool moved = false;
-          Eigen::Vector3f q = Eigen::Vector3f::Zero();
-          for (size_t k = 0; k < n_levels; ++k) {
-            const size_t c =
-                static_cast<size_t>((r0 >> k) * levels_[k].grid.geometry().cols + (c0 >> k));
-            if (!(selected_bits_[k][c / 64] >> (c % 64) & 1u)) continue;
-            if (!moved) {
-              q = *poses[j] * points[first + j];
-              moved = true;
-            }
-            Eigen::Vector3d& sum = centroid_sums_[k][static_cast<size_t>(slot_of_cell_[k][c])];
-            sum.x() += q.x();
-            sum.y() += q.y();
-            sum.z() += 1.0;
-          }
-        }
-      });
+  mapSweepToCells(points, motion, finest, grid.min_z, grid.max_z,
+                  [&](const int* cells, const RowMajorPose* const* poses, size_t first, size_t n) {
+                    for (size_t j = 0; j < n; ++j) {
+                      const int cell = cells[j];
+                      if (cell >= cells0) continue;
+                      if (!(covered[static_cast<size_t>(cell) / 64] >> (cell % 64) & 1u)) continue;
+                      // Row and column without an integer division (exact: cell + 0.5 stays half a
+                      // column
+                      // away from every multiple of the row length).
+                      const int r0 = static_cast<int>((cell + 0.5) * inv_cols);
+                      const int c0 = cell - r0 * finest.cols;
+                      const Eigen::Vector3f q = *poses[j] * points[first + j];
+                      for (size_t k = 0; k < n_levels; ++k) {
+                        const size_t c = static_cast<size_t>(
+                            (r0 >> k) * levels_[k].grid.geometry().cols + (c0 >> k));
+                        if (!(selected_bits_[k][c / 64] >> (c % 64) & 1u)) continue;
+                        const int slot = slot_of_cell_[k][c];
+                        Eigen::Vector3d& sum = centroid_sums_[k][static_cast<size_t>(slot)];
+                        sum.x() += q.x();
+                        sum.y() += q.y();
+                        sum.z() += 1.0;
+                      }
+                    }
+                  });
   for (size_t k = 0; k < n_levels; ++k) {
     FrameLevel& level = levels_[k];
     const GridGeometry& geo = level.grid.geometry();

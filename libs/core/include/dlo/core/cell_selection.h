@@ -18,8 +18,9 @@ struct SelectionParams {
                               ///< observe z, roll and pitch from the ground; 0 disables
   /// The finest levels whose cells stand at the centroids of their points, in the scan and in
   /// the reference alike (a cell's mean height is measured where its points are, not at its
-  /// centre); 0: every cell at its centre (the paper). See HeightFrame::placeCellsOnPoints().
-  int centroid_levels = 2;
+  /// centre); 0: every cell at its centre (the paper, the default). See
+  /// HeightFrame::placeCellsOnPoints(); measured in docs/benchmarks.md.
+  int centroid_levels = 0;
 };
 
 /// A selected cell: its centre in the grid frame and its mean height.

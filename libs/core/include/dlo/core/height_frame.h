@@ -127,10 +127,12 @@ class HeightFrame {
                    bool level1_pooled);
 
   std::vector<FrameLevel> levels_;
-  /// placeCellsOnPoints()'s scratch, per level: the selected cell of each grid cell (-1: none),
-  /// a bit per grid cell (selected or not) and the sums of the selected cells' point positions.
+  /// placeCellsOnPoints()'s scratch: per level, the selected cell of each grid cell (-1: none)
+  /// and the sums of the selected cells' point positions; a bit per cell of level 0 (covered by
+  /// a selected cell of some level or not).
   std::vector<std::vector<int>> slot_of_cell_;
   std::vector<std::vector<std::uint64_t>> selected_bits_;
+  std::vector<std::uint64_t> covered_bits_;
   std::vector<std::vector<Eigen::Vector3d>> centroid_sums_;
   /// placeGrid()'s scratch.
   std::vector<Eigen::Vector3d> offset_sums_, offset_pooled_;
