@@ -146,8 +146,11 @@ void HeightFrame::placeGrid(size_t n_levels,
                             const std::function<void(std::vector<Eigen::Vector3d>&)>& add) {
   Stopwatch sw;
   // Sums of x, y and the weights per cell of level 0, then pooled level by level.
-  std::vector<Eigen::Vector3d>& sums = offset_sums_;
-  std::vector<Eigen::Vector3d>& pooled = offset_pooled_;
+  // Scratch of the thread, not of the frame: megabytes that every frame built as a reference
+  // (the keyframe map, a loop closure's) would otherwise keep.
+  thread_local std::vector<Eigen::Vector3d> sums_scratch, pooled_scratch;
+  std::vector<Eigen::Vector3d>& sums = sums_scratch;
+  std::vector<Eigen::Vector3d>& pooled = pooled_scratch;
   sums.assign(static_cast<size_t>(levels_[0].grid.geometry().cellCount()), Eigen::Vector3d::Zero());
   add(sums);
   for (size_t k = 0; k < n_levels; ++k) {

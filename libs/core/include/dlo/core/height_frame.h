@@ -134,8 +134,6 @@ class HeightFrame {
   std::vector<std::vector<std::uint64_t>> selected_bits_;
   std::vector<std::uint64_t> covered_bits_;
   std::vector<std::vector<Eigen::Vector3d>> centroid_sums_;
-  /// placeGrid()'s scratch.
-  std::vector<Eigen::Vector3d> offset_sums_, offset_pooled_;
   bool can_be_reference_ = true;
   bool can_be_current_ = true;
   StageTimes times_;
