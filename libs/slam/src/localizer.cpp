@@ -28,6 +28,16 @@ namespace dlo {
 
 namespace {
 constexpr double kDeg = M_PI / 180.0;
+
+/// The odometry that bridges between registrations against the map: cells at their centres.
+/// Points at their centroids (selection.centroid_levels) cost the odometry twice the time, and
+/// on the localisation benchmark's HDL-64 drives they localised fewer scans (96.5 % against
+/// 99.5 % on seed 1): the map decides where the vehicle is, the odometry only carries it over.
+SlamParams bridgingOdometry(SlamParams slam) {
+  slam.registration.selection.centroid_levels = 0;
+  return slam;
+}
+
 /// Two poses this far apart are different basins of the search.
 constexpr double kDistinctBasin = 1.5;              // metres
 constexpr double kDistinctBasinAngle = 5.0 * kDeg;  // radians
@@ -131,7 +141,7 @@ Localizer::Localizer(PriorMap map, const LocalizerParams& params, const SlamPara
       slam_(slam),
       grid_(gridFor(slam, map_.resolution, params.cells, 6)),
       aligner_(grid_.solver),
-      odometry_(slam) {
+      odometry_(bridgingOdometry(slam)) {
   grid_.selection.block_size = 1;
   // The map's window keeps no centroids of its cells: a scan's cells are compared with it at
   // their centres, as the map's are (HeightFrame::placeCellsOnPoints()).
