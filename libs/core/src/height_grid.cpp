@@ -73,64 +73,13 @@ size_t binRunEnd(const int* bin, size_t k, size_t n) {
 /// Points are mapped in batches of this many: small enough for the stack and the L1 cache.
 constexpr size_t kBatch = 256;
 
-/// Rasterises a sweep, deskewed by `motion` if it fits, in batches: the cells of a batch are
-/// computed first (vectorised, one pose per run of points in the same time bin; a sweep in
-/// firing order has runs of hundreds of points), then scattered.
-void rasteriseSweep(const PointCloud& points, const SweepMotion& motion,
-                    const GridGeometry& geometry, double min_z, double max_z, std::uint32_t* count,
-                    float* sum) {
-  const CellMapper mapper(geometry, min_z, max_z);
-  const bool moving = motion.fits(points.size());
-  int idx[kBatch];
-  float z[kBatch];
-  int bin[kBatch];
-  for (size_t first = 0; first < points.size(); first += kBatch) {
-    const size_t n = std::min(kBatch, points.size() - first);
-    const Eigen::Vector3f* p = points.data() + first;
-    if (!moving) {
-      mapper.map(p, n, RowMajorPose(), idx, z);
-    } else {
-      const float* t = motion.times().data() + first;
-      motion.bins(t, n, bin);
-      for (size_t k = 0; k < n;) {
-        const size_t end = binRunEnd(bin, k, n);
-        mapper.map(p + k, end - k, motion.pose(bin[k]), idx + k, z + k);
-        k = end;
-      }
-    }
-    for (size_t k = 0; k < n; ++k) {
-      count[idx[k]] += 1;
-      sum[idx[k]] += z[k];
-    }
-  }
-}
-
-/// Rasterises weighted points seen from `pose` in batches, like rasteriseSweep().
-void rasteriseWeighted(const WeightedCloud& points, const Eigen::Isometry3d& pose,
-                       const GridGeometry& geometry, double min_z, double max_z,
-                       std::uint32_t* count, float* sum) {
-  const RowMajorPose m(pose.cast<float>());
-  const CellMapper mapper(geometry, min_z, max_z);
-  int idx[kBatch];
-  float z[kBatch];
-  std::uint32_t w[kBatch];
-  for (size_t first = 0; first < points.size(); first += kBatch) {
-    const size_t n = std::min(kBatch, points.size() - first);
-    mapper.map(points.data() + first, n, m, idx, z, w);
-    for (size_t k = 0; k < n; ++k) {
-      count[idx[k]] += w[k];
-      sum[idx[k]] += static_cast<float>(w[k]) * z[k];
-    }
-  }
-}
-
-}  // namespace
-
-void mapSweepToCells(const PointCloud& points, const SweepMotion& motion,
-                     const GridGeometry& geometry, double min_z, double max_z,
-                     const std::function<void(const int* cells, const RowMajorPose* const* poses,
-                                              size_t first, size_t n)>& visit) {
-  // rasteriseSweep()'s mapping: the same runs of time bins and poses, so the same cells.
+/// The cells of a sweep's points, deskewed by `motion` if it fits, in batches: the cells of a
+/// batch are computed first (vectorised, one pose per run of points in the same time bin; a
+/// sweep in firing order has runs of hundreds of points), then visit(idx, z, poses, first, n)
+/// gets them, with each point's pose when `kPoses` (else poses is null).
+template <bool kPoses, typename Visit>
+void mapSweepBatches(const PointCloud& points, const SweepMotion& motion,
+                     const GridGeometry& geometry, double min_z, double max_z, Visit visit) {
   const CellMapper mapper(geometry, min_z, max_z);
   const bool moving = motion.fits(points.size());
   const RowMajorPose identity;
@@ -143,25 +92,40 @@ void mapSweepToCells(const PointCloud& points, const SweepMotion& motion,
     const Eigen::Vector3f* p = points.data() + first;
     if (!moving) {
       mapper.map(p, n, identity, idx, z);
-      std::fill(poses, poses + n, &identity);
+      if constexpr (kPoses) std::fill(poses, poses + n, &identity);
     } else {
       motion.bins(motion.times().data() + first, n, bin);
       for (size_t k = 0; k < n;) {
         const size_t end = binRunEnd(bin, k, n);
         const RowMajorPose& pose = motion.pose(bin[k]);
         mapper.map(p + k, end - k, pose, idx + k, z + k);
-        std::fill(poses + k, poses + end, &pose);
+        if constexpr (kPoses) std::fill(poses + k, poses + end, &pose);
         k = end;
       }
     }
-    visit(idx, poses, first, n);
+    visit(idx, z, kPoses ? poses : nullptr, first, n);
   }
 }
 
-void mapWeightedToCells(
-    const WeightedCloud& points, const Eigen::Isometry3d& pose, const GridGeometry& geometry,
-    double min_z, double max_z,
-    const std::function<void(const int* cells, size_t first, size_t n)>& visit) {
+/// Rasterises a sweep, deskewed by `motion` if it fits (mapSweepBatches(), then scattered).
+void rasteriseSweep(const PointCloud& points, const SweepMotion& motion,
+                    const GridGeometry& geometry, double min_z, double max_z, std::uint32_t* count,
+                    float* sum) {
+  mapSweepBatches<false>(
+      points, motion, geometry, min_z, max_z,
+      [&](const int* idx, const float* z, const RowMajorPose* const*, size_t, size_t n) {
+        for (size_t k = 0; k < n; ++k) {
+          count[idx[k]] += 1;
+          sum[idx[k]] += z[k];
+        }
+      });
+}
+
+/// The cells, heights and weights of weighted points seen from `pose`, in batches:
+/// visit(idx, z, w, first, n).
+template <typename Visit>
+void mapWeightedBatches(const WeightedCloud& points, const Eigen::Isometry3d& pose,
+                        const GridGeometry& geometry, double min_z, double max_z, Visit visit) {
   const RowMajorPose m(pose.cast<float>());
   const CellMapper mapper(geometry, min_z, max_z);
   int idx[kBatch];
@@ -170,8 +134,41 @@ void mapWeightedToCells(
   for (size_t first = 0; first < points.size(); first += kBatch) {
     const size_t n = std::min(kBatch, points.size() - first);
     mapper.map(points.data() + first, n, m, idx, z, w);
-    visit(idx, first, n);
+    visit(idx, z, w, first, n);
   }
+}
+
+/// Rasterises weighted points seen from `pose` (mapWeightedBatches(), then scattered).
+void rasteriseWeighted(const WeightedCloud& points, const Eigen::Isometry3d& pose,
+                       const GridGeometry& geometry, double min_z, double max_z,
+                       std::uint32_t* count, float* sum) {
+  mapWeightedBatches(points, pose, geometry, min_z, max_z,
+                     [&](const int* idx, const float* z, const std::uint32_t* w, size_t, size_t n) {
+                       for (size_t k = 0; k < n; ++k) {
+                         count[idx[k]] += w[k];
+                         sum[idx[k]] += static_cast<float>(w[k]) * z[k];
+                       }
+                     });
+}
+
+}  // namespace
+
+void mapSweepToCells(const PointCloud& points, const SweepMotion& motion,
+                     const GridGeometry& geometry, double min_z, double max_z,
+                     const std::function<void(const int* cells, const RowMajorPose* const* poses,
+                                              size_t first, size_t n)>& visit) {
+  mapSweepBatches<true>(points, motion, geometry, min_z, max_z,
+                        [&](const int* idx, const float*, const RowMajorPose* const* poses,
+                            size_t first, size_t n) { visit(idx, poses, first, n); });
+}
+
+void mapWeightedToCells(
+    const WeightedCloud& points, const Eigen::Isometry3d& pose, const GridGeometry& geometry,
+    double min_z, double max_z,
+    const std::function<void(const int* cells, size_t first, size_t n)>& visit) {
+  mapWeightedBatches(points, pose, geometry, min_z, max_z,
+                     [&](const int* idx, const float*, const std::uint32_t*, size_t first,
+                         size_t n) { visit(idx, first, n); });
 }
 
 void HeightGrid::rasterise(const PointCloud& points, const GridGeometry& geometry, int min_points,
