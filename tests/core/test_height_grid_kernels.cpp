@@ -58,6 +58,11 @@ struct Mapped {
   std::vector<int> idx;
   std::vector<float> z;
   std::vector<std::uint32_t> w;
+  std::vector<float> fu, fv;
+  /// Where the kernels write the fractions: only with `wanted`.
+  simd::CellFractions fractions(bool wanted) {
+    return wanted ? simd::CellFractions{fu.data(), fv.data()} : simd::CellFractions{};
+  }
   int inside() const {
     int n = 0;
     for (int i : idx) n += i < kCells.discard ? 1 : 0;
@@ -68,7 +73,8 @@ struct Mapped {
 Mapped mapped(size_t n) {
   // Sentinels: a kernel that skips a point leaves them for the comparison to see.
   return Mapped{std::vector<int>(n, -7), std::vector<float>(n, -7.0f),
-                std::vector<std::uint32_t>(n, 7u)};
+                std::vector<std::uint32_t>(n, 7u), std::vector<float>(n, -7.0f),
+                std::vector<float>(n, -7.0f)};
 }
 
 void expectSame(const Mapped& got, const Mapped& want) {
@@ -77,14 +83,35 @@ void expectSame(const Mapped& got, const Mapped& want) {
     EXPECT_EQ(got.idx[k], want.idx[k]) << "point " << k;
     EXPECT_TRUE(sameBits(got.z[k], want.z[k])) << "point " << k;
     EXPECT_EQ(got.w[k], want.w[k]) << "point " << k;
+    // Where in the cell: meaningful for the points inside the grid only; the sentinels where
+    // the fractions were not asked for.
+    if (want.idx[k] < kCells.discard) {
+      EXPECT_TRUE(sameBits(got.fu[k], want.fu[k])) << "point " << k;
+      EXPECT_TRUE(sameBits(got.fv[k], want.fv[k])) << "point " << k;
+    }
+  }
+}
+
+/// A kernel's fractions of the cell: in [0, 1), and where the point is.
+void expectFractionsInCells(const Mapped& got, const std::vector<Eigen::Vector3f>& mapped_xy) {
+  for (size_t k = 0; k < got.idx.size(); ++k) {
+    if (got.idx[k] >= kCells.discard) continue;
+    EXPECT_GE(got.fu[k], 0.0f);
+    EXPECT_LT(got.fu[k], 1.0f);
+    EXPECT_GE(got.fv[k], 0.0f);
+    EXPECT_LT(got.fv[k], 1.0f);
+    const int col = got.idx[k] % kCells.grid_cols, row = got.idx[k] / kCells.grid_cols;
+    EXPECT_NEAR(kCells.x0 + (col + got.fu[k]) / kCells.inv_res, mapped_xy[k].x(), 1e-4f);
+    EXPECT_NEAR(kCells.y0 + (row + got.fv[k]) / kCells.inv_res, mapped_xy[k].y(), 1e-4f);
   }
 }
 
 /// A mapping kernel: maps points [from, n) and returns where it stopped.
 using PointKernel = size_t (*)(const simd::CellMapping&, const Eigen::Vector3f*, size_t, size_t,
-                               const RowMajorPose&, int*, float*);
+                               const RowMajorPose&, int*, float*, simd::CellFractions);
 using WeightedKernel = size_t (*)(const simd::CellMapping&, const WeightedPoint*, size_t, size_t,
-                                  const RowMajorPose&, int*, float*, std::uint32_t*);
+                                  const RowMajorPose&, int*, float*, std::uint32_t*,
+                                  simd::CellFractions);
 
 /// The kernels in the order HeightGrid dispatches them (widest first), finished by the scalar
 /// reference, against the scalar reference alone.
@@ -96,13 +123,24 @@ void expectPointKernelsMatchScalar(const std::vector<PointKernel>& kernels, size
       const PointCloud p = somePoints(n, rng);
       const RowMajorPose m = trial == 0 ? RowMajorPose() : somePose(rng);
       Mapped want = mapped(n), got = mapped(n);
-      simd::mapPointsScalar(kCells, p.data(), 0, n, m, want.idx.data(), want.z.data());
+      // Every other trial with the fractions of the cell.
+      const bool fractions = trial % 2 == 1;
+      simd::mapPointsScalar(kCells, p.data(), 0, n, m, want.idx.data(), want.z.data(),
+                            want.fractions(fractions));
       size_t k = 0;
       for (PointKernel kernel : kernels)
-        k = kernel(kCells, p.data(), k, n, m, got.idx.data(), got.z.data());
+        k = kernel(kCells, p.data(), k, n, m, got.idx.data(), got.z.data(),
+                   got.fractions(fractions));
       EXPECT_EQ(k, n - n % width) << "the widest kernel stops before the last whole vector";
-      simd::mapPointsScalar(kCells, p.data(), k, n, m, got.idx.data(), got.z.data());
+      simd::mapPointsScalar(kCells, p.data(), k, n, m, got.idx.data(), got.z.data(),
+                            got.fractions(fractions));
       expectSame(got, want);
+      if (fractions) {
+        std::vector<Eigen::Vector3f> xy(n);
+        for (size_t j = 0; j < n; ++j)
+          m.apply(p[j].x(), p[j].y(), p[j].z(), xy[j].x(), xy[j].y(), xy[j].z());
+        expectFractionsInCells(got, xy);
+      }
       inside += want.inside();
       outside += static_cast<int>(n) - want.inside();
     }
@@ -120,15 +158,17 @@ void expectWeightedKernelsMatchScalar(const std::vector<WeightedKernel>& kernels
       const WeightedCloud p = weighted(somePoints(n, rng), rng);
       const RowMajorPose m = somePose(rng);
       Mapped want = mapped(n), got = mapped(n);
+      const bool fractions = trial % 2 == 1;
       simd::mapWeightedScalar(kCells, p.data(), 0, n, m, want.idx.data(), want.z.data(),
-                              want.w.data());
+                              want.w.data(), want.fractions(fractions));
       size_t k = 0;
       for (WeightedKernel kernel : kernels) {
-        k = kernel(kCells, p.data(), k, n, m, got.idx.data(), got.z.data(), got.w.data());
+        k = kernel(kCells, p.data(), k, n, m, got.idx.data(), got.z.data(), got.w.data(),
+                   got.fractions(fractions));
       }
       EXPECT_EQ(k, n - n % width);
-      simd::mapWeightedScalar(kCells, p.data(), k, n, m, got.idx.data(), got.z.data(),
-                              got.w.data());
+      simd::mapWeightedScalar(kCells, p.data(), k, n, m, got.idx.data(), got.z.data(), got.w.data(),
+                              got.fractions(fractions));
       expectSame(got, want);
       inside += want.inside();
     }

@@ -112,7 +112,11 @@ TEST(MotionConditions, ADriveStartingAtSpeedOnAnOpenRoadFindsItsSpeedFromThePole
   EXPECT_GT(searched.counters.search_found_frames, 0u);
   EXPECT_EQ(prior.counters.searched_frames, 0u);
   EXPECT_NEAR(pathLength(searched.poses) / truth, 1.0, 0.05);
-  EXPECT_LT(pathLength(prior.poses) / truth, 0.5);
+  // Without the search the start is lost: how much of the road the prior alone misses depends on
+  // which registration first catches a pole (1 m and 181 m of 224 m with rounding-level
+  // differences in the cells' centroids), its drift does not (over 100 %).
+  EXPECT_LT(pathLength(prior.poses) / truth, 0.9);
+  EXPECT_GT(prior.accuracy.drift_percent_before, 10.0 * searched.accuracy.drift_percent_before);
   EXPECT_LT(searched.accuracy.drift_percent_before, 5.0);
 }
 

@@ -261,10 +261,16 @@ Matrix6d toTwistCovariance(const Eigen::Matrix<double, N, N>& c) {
 /// place (the offsets interpolated bilinearly there), when both frames have their offsets;
 /// otherwise the cells as selected, at their centres.
 const std::vector<SelectedCell>& placed(const FrameLevel& ref, const FrameLevel& cur,
-                                        const Eigen::Isometry3d& T) {
+                                        const Eigen::Isometry3d& T,
+                                        std::vector<Eigen::Vector2f>* warm = nullptr) {
   if (ref.grid_offsets.empty() || cur.cell_offsets.size() != cur.cells.size()) return cur.cells;
   thread_local std::vector<SelectedCell> scratch;
   scratch.resize(cur.cells.size());
+  // The previous solutions, target - place, per cell: the pose moves little from one
+  // Gauss-Newton iteration to the next, so that they start Newton's method where it nearly
+  // ends (one evaluation instead of three or four).
+  const bool warm_start = warm != nullptr && warm->size() == cur.cells.size();
+  if (warm != nullptr && !warm_start) warm->assign(cur.cells.size(), Eigen::Vector2f::Zero());
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
   const GridGeometry& geo = ref.grid.geometry();
@@ -273,6 +279,18 @@ const std::vector<SelectedCell>& placed(const FrameLevel& ref, const FrameLevel&
                ? Eigen::Vector2f::Zero()
                : ref.grid_offsets[static_cast<size_t>(r * geo.cols + c)];
   };
+  // Lattice coordinates in floats, from the centre of cell (0, 0): u = (x - x_c) / resolution.
+  const float inv_res = static_cast<float>(1.0 / geo.resolution);
+  const float x_c = static_cast<float>(geo.cellCentreX(0));
+  const float y_c = static_cast<float>(geo.cellCentreY(0));
+  const float limit = 0.5f * static_cast<float>(geo.resolution);
+  // Beyond the lattice every offset is zero; clamped there, floors stay in int range.
+  const float u_max = static_cast<float>(geo.cols + 1), v_max = static_cast<float>(geo.rows + 1);
+  const auto floorInt = [](float x) {
+    const int i = static_cast<int>(x);
+    return i - (x < static_cast<float>(i) ? 1 : 0);
+  };
+  const Eigen::Vector2f* offsets = ref.grid_offsets.data();
   for (size_t i = 0; i < cur.cells.size(); ++i) {
     SelectedCell c = cur.cells[i];
     c.x += cur.cell_offsets[i].x();
@@ -283,14 +301,25 @@ const std::vector<SelectedCell>& placed(const FrameLevel& ref, const FrameLevel&
     // this deformation takes to q, p + offset(p) = q, by Newton's method (the bilinear
     // interpolant of heights at p is then the deformed lattice's at q).
     const Eigen::Vector2f target = q.head<2>();
-    Eigen::Vector2f at = target;
-    const float inv_res = static_cast<float>(1.0 / geo.resolution);
+    Eigen::Vector2f at = warm_start ? Eigen::Vector2f(target - (*warm)[i]) : target;
     for (int it = 0; it < 4; ++it) {
-      const double u = geo.u(at.x()) - 0.5, v = geo.v(at.y()) - 0.5;
-      const int c0 = static_cast<int>(std::floor(u)), r0 = static_cast<int>(std::floor(v));
-      const float fu = static_cast<float>(u - c0), fv = static_cast<float>(v - r0);
-      const Eigen::Vector2f d00 = offset(r0, c0), d10 = offset(r0, c0 + 1);
-      const Eigen::Vector2f d01 = offset(r0 + 1, c0), d11 = offset(r0 + 1, c0 + 1);
+      const float u = std::clamp((at.x() - x_c) * inv_res, -2.0f, u_max);
+      const float v = std::clamp((at.y() - y_c) * inv_res, -2.0f, v_max);
+      const int c0 = floorInt(u), r0 = floorInt(v);
+      const float fu = u - static_cast<float>(c0), fv = v - static_cast<float>(r0);
+      Eigen::Vector2f d00, d10, d01, d11;
+      if (r0 >= 0 && c0 >= 0 && r0 + 1 < geo.rows && c0 + 1 < geo.cols) {
+        const Eigen::Vector2f* o = offsets + static_cast<size_t>(r0 * geo.cols + c0);
+        d00 = o[0];
+        d10 = o[1];
+        d01 = o[geo.cols];
+        d11 = o[geo.cols + 1];
+      } else {
+        d00 = offset(r0, c0);
+        d10 = offset(r0, c0 + 1);
+        d01 = offset(r0 + 1, c0);
+        d11 = offset(r0 + 1, c0 + 1);
+      }
       const Eigen::Vector2f d =
           (1 - fv) * ((1 - fu) * d00 + fu * d10) + fv * ((1 - fu) * d01 + fu * d11);
       const Eigen::Vector2f e = at + d - target;
@@ -300,11 +329,11 @@ const std::vector<SelectedCell>& placed(const FrameLevel& ref, const FrameLevel&
       J.col(1) += ((1 - fu) * (d01 - d00) + fu * (d11 - d10)) * inv_res;
       if (J.determinant() < 0.1f) break;  // centroids (nearly) folded over: no inverse
       Eigen::Vector2f step = J.inverse() * e;
-      const float limit = 0.5f * static_cast<float>(geo.resolution);
       if (step.norm() > limit) step *= limit / step.norm();
       at -= step;
     }
     const Eigen::Vector2f d = target - at;
+    if (warm != nullptr) (*warm)[i] = d;
     // Moved by -d in the reference: by -R^T d in the scan.
     const Eigen::Vector3f back = R.transpose() * Eigen::Vector3f(d.x(), d.y(), 0.0f);
     c.x -= back.x();
@@ -316,7 +345,8 @@ const std::vector<SelectedCell>& placed(const FrameLevel& ref, const FrameLevel&
 
 template <int N>
 bool refine(const SolverParams& p, const HeightFrame& reference, const HeightFrame& current,
-            int coarsest, int finest, Eigen::Isometry3d& T, int& iterations) {
+            int coarsest, int finest, Eigen::Isometry3d& T, int& iterations,
+            std::vector<std::vector<Eigen::Vector2f>>& warm) {
   bool converged = false;
   for (int level = coarsest; level >= finest; --level) {
     const HeightSampler& sampler = reference.levels()[level].sampler;
@@ -337,8 +367,10 @@ bool refine(const SolverParams& p, const HeightFrame& reference, const HeightFra
     for (int it = 0; it < p.max_iterations && !converged; ++it) {
       // Where the cells stand in the reference follows the pose (placed()).
       const NormalEquations<N> eq =
-          linearise<N>(sampler, placed(reference.levels()[level], current.levels()[level], T), T,
-                       delta, p.max_residual);
+          linearise<N>(sampler,
+                       placed(reference.levels()[level], current.levels()[level], T,
+                              &warm[static_cast<size_t>(level)]),
+                       T, delta, p.max_residual);
       const ConditionedSystem<N> sys(eq, p, kMinResiduals<N>);
       Vector6d xi = toTwist<N>(sys.step(0.0));
       // A step that turns back on the previous one is the signature of a limit cycle.
@@ -388,12 +420,16 @@ AlignmentResult alignImpl(const SolverParams& p, const HeightFrame& reference,
       }
     }
   }
+  // Per level, where the cells stood in the reference at the last pose (see placed()).
+  thread_local std::vector<std::vector<Eigen::Vector2f>> warm;
+  warm.resize(static_cast<size_t>(levels));
+  for (std::vector<Eigen::Vector2f>& w : warm) w.clear();
   if constexpr (N == 6) {
     // Far from the solution, freeing z, roll and pitch lets walls be "explained" by tilting
     // the ground; settle x, y and yaw on the coarse levels first.
-    if (levels > 1) refine<3>(p, reference, current, levels - 1, 1, T, res.iterations);
+    if (levels > 1) refine<3>(p, reference, current, levels - 1, 1, T, res.iterations, warm);
   }
-  res.converged = refine<N>(p, reference, current, levels - 1, 0, T, res.iterations);
+  res.converged = refine<N>(p, reference, current, levels - 1, 0, T, res.iterations, warm);
   // Statistics, observability and covariance at the solution. Which directions keep the prior
   // is judged on the next coarser level (0.2 m by default), because fine-scale texture (laser
   // rings and range noise on a wall seen at a grazing angle) changes from scan to scan yet looks
@@ -402,17 +438,19 @@ AlignmentResult alignImpl(const SolverParams& p, const HeightFrame& reference,
   // stays above 0.05 on both. The reverse also happens: a sparse VLP-16 scan can be weak at
   // 0.1 m (ratio 0.015) and well observed at 0.2 m (0.035 and more); such a result is flagged
   // and its covariance inflated along what the finest level misses, but its estimate is kept.
-  const NormalEquations<N> eq = linearise<N>(reference.levels()[0].sampler,
-                                             placed(reference.levels()[0], current.levels()[0], T),
-                                             T, p.huber_delta, p.max_residual);
+  const NormalEquations<N> eq =
+      linearise<N>(reference.levels()[0].sampler,
+                   placed(reference.levels()[0], current.levels()[0], T, &warm[0]), T,
+                   p.huber_delta, p.max_residual);
   const ConditionedSystem<N> sys(eq, p, p.min_cells);
   Eigen::Matrix<double, N, N> unobserved = sys.unobservable();  // to keep at the prior
   Eigen::Matrix<double, N, N> uncertain = unobserved;           // to flag, variance 1e6
   res.information_ratio = sys.informationRatio();
   if (levels > 1) {
-    const NormalEquations<N> eq1 = linearise<N>(
-        reference.levels()[1].sampler, placed(reference.levels()[1], current.levels()[1], T), T,
-        2.0 * p.huber_delta, p.max_residual);
+    const NormalEquations<N> eq1 =
+        linearise<N>(reference.levels()[1].sampler,
+                     placed(reference.levels()[1], current.levels()[1], T, &warm[1]), T,
+                     2.0 * p.huber_delta, p.max_residual);
     const ConditionedSystem<N> coarse(eq1, p, p.min_cells);
     unobserved = coarse.unobservable();
     uncertain = unobservableOfEither(sys, coarse);

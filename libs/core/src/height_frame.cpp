@@ -28,8 +28,9 @@ void HeightFrame::build(const PointCloud& points, const HeightGridParams& grid,
         finest.rasterise(points, SweepMotion(), geometry, grid.min_points, grid.min_z, grid.max_z,
                          coarser);
       },
-      grid, selection, include_ground);
-  placeOnPoints(points, SweepMotion(), grid, selection);
+      grid, selection, include_ground, FrameUse::kCurrentAndReference,
+      centroidLevels(grid, selection) > 0);
+  placeOnCentroids(centroidLevels(grid, selection));
 }
 
 void HeightFrame::build(const PointCloud& points, const SweepMotion& motion,
@@ -40,8 +41,8 @@ void HeightFrame::build(const PointCloud& points, const SweepMotion& motion,
         finest.rasterise(points, motion, geometry, grid.min_points, grid.min_z, grid.max_z,
                          coarser);
       },
-      grid, selection, include_ground, use);
-  placeOnPoints(points, motion, grid, selection);
+      grid, selection, include_ground, use, centroidLevels(grid, selection) > 0);
+  placeOnCentroids(centroidLevels(grid, selection));
 }
 
 void HeightFrame::build(const WeightedCloud& points, const Eigen::Isometry3d& pose,
@@ -56,11 +57,10 @@ void HeightFrame::build(const std::vector<PosedCloud>& parts, const HeightGridPa
       [&](HeightGrid& finest, const GridGeometry& geometry, HeightGrid* coarser) {
         finest.rasterise(parts, geometry, grid.min_points, grid.min_z, grid.max_z, coarser);
       },
-      grid, selection, include_ground, use);
-  if (can_be_reference_ && centroidLevels(selection) > 0) {
-    placeGrid(centroidLevels(selection),
-              [&](std::vector<Eigen::Vector3d>& sums) { addCentroidSums(parts, grid, sums); });
-  }
+      grid, selection, include_ground, use,
+      use != FrameUse::kCurrentOnly && centroidLevels(grid, selection) > 0);
+  // Only the reference's side: posed clouds are keyframe maps, not scans.
+  if (can_be_reference_) placeGrid(centroidLevels(grid, selection));
 }
 
 void HeightFrame::build(const HeightGrid::CellFiller& fill, const HeightGridParams& grid,
@@ -69,13 +69,13 @@ void HeightFrame::build(const HeightGrid::CellFiller& fill, const HeightGridPara
       [&](HeightGrid& finest, const GridGeometry& geometry, HeightGrid* coarser) {
         finest.accumulateCells(geometry, grid.min_points, fill, coarser);
       },
-      grid, selection, include_ground, use);
+      grid, selection, include_ground, use, false);
 }
 
 void HeightFrame::buildWith(
     const std::function<void(HeightGrid&, const GridGeometry&, HeightGrid*)>& rasterise_finest,
     const HeightGridParams& grid, const SelectionParams& selection, bool include_ground,
-    FrameUse use) {
+    FrameUse use, bool centroids) {
   times_ = StageTimes();
   // resize() keeps the existing levels and their buffers: a frame rebuilt for every scan
   // reaches a steady state with no allocation at all.
@@ -87,176 +87,126 @@ void HeightFrame::buildWith(
   Stopwatch sw;
   // Level 1 is pooled while level 0 is finalised (one pass over level 0's sums, not two).
   HeightGrid* level1 = levels_.size() > 1 ? &levels_[1].grid : nullptr;
+  levels_[0].grid.keepCentroidSums(centroids);
   rasterise_finest(levels_[0].grid, GridGeometry::centred(grid.cols, grid.rows, grid.resolution),
                    level1);
   times_.grid_ms = sw.elapsedMs();
   buildLevels(selection, include_ground, use, level1 != nullptr);
 }
 
-size_t HeightFrame::centroidLevels(const SelectionParams& selection) const {
-  return std::min(levels_.size(), static_cast<size_t>(std::max(0, selection.centroid_levels)));
+size_t HeightFrame::centroidLevels(const HeightGridParams& grid, const SelectionParams& selection) {
+  return static_cast<size_t>(
+      std::min(std::max(1, grid.levels), std::max(0, selection.centroid_levels)));
 }
 
-void HeightFrame::placeOnPoints(const PointCloud& points, const SweepMotion& motion,
-                                const HeightGridParams& grid, const SelectionParams& selection) {
-  const size_t n = centroidLevels(selection);
-  if (n == 0) return;
-  if (can_be_reference_) {
-    placeGrid(n, [&](std::vector<Eigen::Vector3d>& sums) {
-      const GridGeometry& finest = levels_[0].grid.geometry();
-      mapSweepToCells(
-          points, motion, finest, grid.min_z, grid.max_z,
-          [&](const int* cells, const RowMajorPose* const* poses, size_t first, size_t count) {
-            for (size_t j = 0; j < count; ++j) {
-              if (cells[j] >= finest.cellCount()) continue;
-              const Eigen::Vector3f q = *poses[j] * points[first + j];
-              sums[static_cast<size_t>(cells[j])] += Eigen::Vector3d(q.x(), q.y(), 1.0);
-            }
-          });
-    });
-  }
+void HeightFrame::placeOnCentroids(size_t n_levels) {
+  if (n_levels == 0) return;
+  if (can_be_reference_) placeGrid(n_levels);
   if (can_be_current_) {
     Stopwatch sw;
-    placeCellsOnPoints(points, motion, grid, n);
+    placeCellsOnCentroids(n_levels);
     times_.selection_ms += sw.elapsedMs();
   }
 }
 
-void HeightFrame::addCentroidSums(const std::vector<PosedCloud>& parts,
-                                  const HeightGridParams& grid,
-                                  std::vector<Eigen::Vector3d>& sums) const {
-  const GridGeometry& finest = levels_[0].grid.geometry();
-  for (const PosedCloud& part : parts) {
-    const RowMajorPose m(part.pose.cast<float>());
-    mapWeightedToCells(*part.cloud, part.pose, finest, grid.min_z, grid.max_z,
-                       [&](const int* cells, size_t first, size_t n) {
-                         for (size_t j = 0; j < n; ++j) {
-                           if (cells[j] >= finest.cellCount()) continue;
-                           const WeightedPoint& w = (*part.cloud)[first + j];
-                           const Eigen::Vector3f q = m * w.p;
-                           const double n_w = static_cast<double>(w.n);
-                           sums[static_cast<size_t>(cells[j])] +=
-                               Eigen::Vector3d(n_w * q.x(), n_w * q.y(), n_w);
-                         }
-                       });
-  }
-}
-
-void HeightFrame::placeGrid(size_t n_levels,
-                            const std::function<void(std::vector<Eigen::Vector3d>&)>& add) {
+void HeightFrame::placeGrid(size_t n_levels) {
+  const HeightGrid& level0 = levels_[0].grid;
+  if (n_levels == 0 || level0.centroidSumsU().empty()) return;
   Stopwatch sw;
-  // Sums of x, y and the weights per cell of level 0, then pooled level by level.
-  // Scratch of the thread, not of the frame: megabytes that every frame built as a reference
-  // (the keyframe map, a loop closure's) would otherwise keep.
-  thread_local std::vector<Eigen::Vector3d> sums_scratch, pooled_scratch;
-  std::vector<Eigen::Vector3d>& sums = sums_scratch;
-  std::vector<Eigen::Vector3d>& pooled = pooled_scratch;
-  sums.assign(static_cast<size_t>(levels_[0].grid.geometry().cellCount()), Eigen::Vector3d::Zero());
-  add(sums);
+  // Per cell of level k, the sums of where its points fell, in cells of level 0 from the
+  // cell's corner, and of their weights: level 0's own sums, then pooled level by level (a
+  // child's sums move by its corner's place in its parent). Scratch of the thread, not of the
+  // frame: megabytes that every frame built as a reference (the keyframe map, a loop
+  // closure's) would otherwise keep.
+  thread_local std::vector<float> su_scratch, sv_scratch, sn_scratch;
+  thread_local std::vector<float> pu_scratch, pv_scratch, pn_scratch;
+  std::vector<float>& su = su_scratch;
+  std::vector<float>& sv = sv_scratch;
+  std::vector<float>& sn = sn_scratch;
+  const GridGeometry& geo0 = level0.geometry();
+  const float res0 = static_cast<float>(geo0.resolution);
   for (size_t k = 0; k < n_levels; ++k) {
     FrameLevel& level = levels_[k];
     const GridGeometry& geo = level.grid.geometry();
-    if (k > 0) {
-      const GridGeometry& fine = levels_[k - 1].grid.geometry();
-      pooled.assign(static_cast<size_t>(geo.cellCount()), Eigen::Vector3d::Zero());
-      for (int r = 0; r < fine.rows; ++r) {
-        for (int c = 0; c < fine.cols; ++c) {
-          pooled[static_cast<size_t>((r / 2) * geo.cols + c / 2)] +=
-              sums[static_cast<size_t>(r * fine.cols + c)];
+    const size_t cells = static_cast<size_t>(geo.cellCount());
+    if (k == 0) {
+      su.assign(level0.centroidSumsU().begin(), level0.centroidSumsU().begin() + cells);
+      sv.assign(level0.centroidSumsV().begin(), level0.centroidSumsV().begin() + cells);
+      sn.resize(cells);
+      for (int r = 0; r < geo.rows; ++r) {
+        for (int c = 0; c < geo.cols; ++c) {
+          sn[static_cast<size_t>(r * geo.cols + c)] = static_cast<float>(level0.count(r, c));
         }
       }
-      sums.swap(pooled);
+    } else {
+      const GridGeometry& fine = levels_[k - 1].grid.geometry();
+      const float half = static_cast<float>(1 << (k - 1));  // a child's side, in level-0 cells
+      std::vector<float>& pu = pu_scratch;
+      std::vector<float>& pv = pv_scratch;
+      std::vector<float>& pn = pn_scratch;
+      pu.assign(cells, 0.0f);
+      pv.assign(cells, 0.0f);
+      pn.assign(cells, 0.0f);
+      for (int r = 0; r < fine.rows; ++r) {
+        const float dv = static_cast<float>(r % 2) * half;
+        for (int c = 0; c < fine.cols; ++c) {
+          const size_t from = static_cast<size_t>(r * fine.cols + c);
+          const size_t to = static_cast<size_t>((r / 2) * geo.cols + c / 2);
+          const float du = static_cast<float>(c % 2) * half;
+          pu[to] += su[from] + sn[from] * du;
+          pv[to] += sv[from] + sn[from] * dv;
+          pn[to] += sn[from];
+        }
+      }
+      su.swap(pu);
+      sv.swap(pv);
+      sn.swap(pn);
     }
     // Filled cells stay at their centres: their heights are interpolated there.
-    level.grid_offsets.assign(static_cast<size_t>(geo.cellCount()), Eigen::Vector2f::Zero());
+    level.grid_offsets.assign(cells, Eigen::Vector2f::Zero());
+    const float centre = 0.5f * static_cast<float>(1 << k);  // in level-0 cells
     for (int r = 0; r < geo.rows; ++r) {
       for (int c = 0; c < geo.cols; ++c) {
         const size_t i = static_cast<size_t>(r * geo.cols + c);
-        if (!level.grid.isValid(r, c) || sums[i].z() <= 0.0) continue;
+        if (!level.grid.isValid(r, c) || !(sn[i] > 0.0f)) continue;
         level.grid_offsets[i] =
-            Eigen::Vector2f(static_cast<float>(sums[i].x() / sums[i].z() - geo.cellCentreX(c)),
-                            static_cast<float>(sums[i].y() / sums[i].z() - geo.cellCentreY(r)));
+            Eigen::Vector2f(res0 * (su[i] / sn[i] - centre), res0 * (sv[i] / sn[i] - centre));
       }
     }
   }
   times_.gradients_ms += sw.elapsedMs();
 }
 
-void HeightFrame::placeCellsOnPoints(const PointCloud& points, const SweepMotion& motion,
-                                     const HeightGridParams& grid, size_t n_levels) {
-  slot_of_cell_.resize(n_levels);
-  centroid_sums_.resize(n_levels);
-  const auto cellOf = [](const GridGeometry& geo, const SelectedCell& cell) {
-    return static_cast<size_t>(static_cast<int>(geo.v(cell.y)) * geo.cols +
-                               static_cast<int>(geo.u(cell.x)));
-  };
-  // Per level, the selected cell of each grid cell; and a bit per cell of level 0, set where a
-  // selected cell of any level covers it (small enough for the cache: most points fall in no
-  // selected cell, and only those in one need their row and column).
-  const GridGeometry& finest = levels_[0].grid.geometry();
-  const int cells0 = finest.cellCount();
-  const double inv_cols = 1.0 / finest.cols;
-  std::vector<std::uint64_t>& covered = covered_bits_;
-  covered.assign((static_cast<size_t>(cells0) + 63) / 64, 0);
-  selected_bits_.resize(n_levels);
-  for (size_t k = 0; k < n_levels; ++k) {
-    const FrameLevel& level = levels_[k];
-    const GridGeometry& geo = level.grid.geometry();
-    const size_t cells = static_cast<size_t>(geo.cellCount());
-    std::vector<int>& slots = slot_of_cell_[k];
-    if (slots.size() != cells) slots.assign(cells, -1);
-    selected_bits_[k].assign((cells + 63) / 64, 0);
-    centroid_sums_[k].assign(level.cells.size(), Eigen::Vector3d::Zero());
-    const int side = 1 << k;
-    for (size_t i = 0; i < level.cells.size(); ++i) {
-      const size_t c = cellOf(geo, level.cells[i]);
-      slots[c] = static_cast<int>(i);
-      selected_bits_[k][c / 64] |= std::uint64_t{1} << (c % 64);
-      const int r = static_cast<int>(c) / geo.cols, col = static_cast<int>(c) % geo.cols;
-      for (int r0 = r * side; r0 < std::min(finest.rows, (r + 1) * side); ++r0) {
-        for (int c0 = col * side; c0 < std::min(finest.cols, (col + 1) * side); ++c0) {
-          const size_t b = static_cast<size_t>(r0 * finest.cols + c0);
-          covered[b / 64] |= std::uint64_t{1} << (b % 64);
-        }
-      }
-    }
-  }
-  mapSweepToCells(points, motion, finest, grid.min_z, grid.max_z,
-                  [&](const int* cells, const RowMajorPose* const* poses, size_t first, size_t n) {
-                    for (size_t j = 0; j < n; ++j) {
-                      const int cell = cells[j];
-                      if (cell >= cells0) continue;
-                      if (!(covered[static_cast<size_t>(cell) / 64] >> (cell % 64) & 1u)) continue;
-                      // Row and column without an integer division (exact: cell + 0.5 stays half a
-                      // column
-                      // away from every multiple of the row length).
-                      const int r0 = static_cast<int>((cell + 0.5) * inv_cols);
-                      const int c0 = cell - r0 * finest.cols;
-                      const Eigen::Vector3f q = *poses[j] * points[first + j];
-                      for (size_t k = 0; k < n_levels; ++k) {
-                        const size_t c = static_cast<size_t>(
-                            (r0 >> k) * levels_[k].grid.geometry().cols + (c0 >> k));
-                        if (!(selected_bits_[k][c / 64] >> (c % 64) & 1u)) continue;
-                        const int slot = slot_of_cell_[k][c];
-                        Eigen::Vector3d& sum = centroid_sums_[k][static_cast<size_t>(slot)];
-                        sum.x() += q.x();
-                        sum.y() += q.y();
-                        sum.z() += 1.0;
-                      }
-                    }
-                  });
-  for (size_t k = 0; k < n_levels; ++k) {
+void HeightFrame::placeCellsOnCentroids(size_t n_levels) {
+  const HeightGrid& level0 = levels_[0].grid;
+  const std::vector<float>& sum_u = level0.centroidSumsU();
+  const std::vector<float>& sum_v = level0.centroidSumsV();
+  if (sum_u.empty()) return;
+  const GridGeometry& geo0 = level0.geometry();
+  for (size_t k = 0; k < n_levels && k < levels_.size(); ++k) {
     FrameLevel& level = levels_[k];
     const GridGeometry& geo = level.grid.geometry();
+    const int side = 1 << k;
     level.cell_offsets.resize(level.cells.size());
     for (size_t i = 0; i < level.cells.size(); ++i) {
       const SelectedCell& cell = level.cells[i];
-      slot_of_cell_[k][cellOf(geo, cell)] = -1;
-      const Eigen::Vector3d& sum = centroid_sums_[k][i];
+      // The level-0 cells of the selected cell: its points, wherever the selection put it.
+      const int row = static_cast<int>(geo.v(cell.y)), col = static_cast<int>(geo.u(cell.x));
+      double su = 0.0, sv = 0.0, n = 0.0;
+      for (int r0 = row * side; r0 < std::min(geo0.rows, (row + 1) * side); ++r0) {
+        for (int c0 = col * side; c0 < std::min(geo0.cols, (col + 1) * side); ++c0) {
+          const size_t j = static_cast<size_t>(r0 * geo0.cols + c0);
+          const double n0 = level0.count(r0, c0);
+          su += n0 * c0 + sum_u[j];
+          sv += n0 * r0 + sum_v[j];
+          n += n0;
+        }
+      }
       level.cell_offsets[i].setZero();
-      if (sum.z() > 0.0) {
-        level.cell_offsets[i] = Eigen::Vector2f(static_cast<float>(sum.x() / sum.z() - cell.x),
-                                                static_cast<float>(sum.y() / sum.z() - cell.y));
+      if (n > 0.0) {
+        level.cell_offsets[i] =
+            Eigen::Vector2f(static_cast<float>(geo0.x_min + geo0.resolution * su / n - cell.x),
+                            static_cast<float>(geo0.y_min + geo0.resolution * sv / n - cell.y));
       }
     }
   }

@@ -32,29 +32,31 @@ class CellMapper {
   CellMapper(const GridGeometry& geometry, double min_z, double max_z)
       : cells_(geometry, min_z, max_z) {}
 
-  /// Cell index and height of p[0..n) mapped by `m`, into idx[0..n) and z[0..n).
-  void map(const Eigen::Vector3f* p, size_t n, const RowMajorPose& m, int* idx, float* z) const {
+  /// Cell index and height of p[0..n) mapped by `m`, into idx[0..n) and z[0..n), and where
+  /// in their cells they fell into f (unless its pointers are null).
+  void map(const Eigen::Vector3f* p, size_t n, const RowMajorPose& m, int* idx, float* z,
+           simd::CellFractions f) const {
     size_t k = 0;
 #ifdef DLO_SIMD_AVX2_DISPATCH
-    if (simd::hasAvx2()) k = simd::mapPointsAvx2(cells_, p, k, n, m, idx, z);
+    if (simd::hasAvx2()) k = simd::mapPointsAvx2(cells_, p, k, n, m, idx, z, f);
 #endif
 #ifdef __SSE2__
-    k = simd::mapPointsSse2(cells_, p, k, n, m, idx, z);
+    k = simd::mapPointsSse2(cells_, p, k, n, m, idx, z, f);
 #endif
-    simd::mapPointsScalar(cells_, p, k, n, m, idx, z);
+    simd::mapPointsScalar(cells_, p, k, n, m, idx, z, f);
   }
 
   /// The same for weighted points; their weights go to w[0..n).
   void map(const WeightedPoint* p, size_t n, const RowMajorPose& m, int* idx, float* z,
-           std::uint32_t* w) const {
+           std::uint32_t* w, simd::CellFractions f) const {
     size_t k = 0;
 #ifdef DLO_SIMD_AVX2_DISPATCH
-    if (simd::hasAvx2()) k = simd::mapWeightedAvx2(cells_, p, k, n, m, idx, z, w);
+    if (simd::hasAvx2()) k = simd::mapWeightedAvx2(cells_, p, k, n, m, idx, z, w, f);
 #endif
 #ifdef __SSE2__
-    k = simd::mapWeightedSse2(cells_, p, k, n, m, idx, z, w);
+    k = simd::mapWeightedSse2(cells_, p, k, n, m, idx, z, w, f);
 #endif
-    simd::mapWeightedScalar(cells_, p, k, n, m, idx, z, w);
+    simd::mapWeightedScalar(cells_, p, k, n, m, idx, z, w, f);
   }
 
  private:
@@ -73,103 +75,89 @@ size_t binRunEnd(const int* bin, size_t k, size_t n) {
 /// Points are mapped in batches of this many: small enough for the stack and the L1 cache.
 constexpr size_t kBatch = 256;
 
-/// The cells of a sweep's points, deskewed by `motion` if it fits, in batches: the cells of a
-/// batch are computed first (vectorised, one pose per run of points in the same time bin; a
-/// sweep in firing order has runs of hundreds of points), then visit(idx, z, poses, first, n)
-/// gets them, with each point's pose when `kPoses` (else poses is null).
-template <bool kPoses, typename Visit>
-void mapSweepBatches(const PointCloud& points, const SweepMotion& motion,
-                     const GridGeometry& geometry, double min_z, double max_z, Visit visit) {
+/// Where rasterisation adds its points: counts and height sums per cell, and with
+/// `sum_u` (not null) the sums of where in their cells the points fell
+/// (HeightGrid::centroidSumsU()).
+struct CellTargets {
+  std::uint32_t* count;
+  float* sum;
+  float* sum_u;
+  float* sum_v;
+};
+
+/// Rasterises a sweep, deskewed by `motion` if it fits, in batches: the cells of a batch are
+/// computed first (vectorised, one pose per run of points in the same time bin; a sweep in
+/// firing order has runs of hundreds of points), then scattered into `to`.
+template <bool kFractions>
+void rasteriseSweep(const PointCloud& points, const SweepMotion& motion,
+                    const GridGeometry& geometry, double min_z, double max_z,
+                    const CellTargets& to) {
   const CellMapper mapper(geometry, min_z, max_z);
   const bool moving = motion.fits(points.size());
   const RowMajorPose identity;
   int idx[kBatch];
   float z[kBatch];
+  float fu[kBatch];
+  float fv[kBatch];
   int bin[kBatch];
-  const RowMajorPose* poses[kBatch];
+  simd::CellFractions f;
+  if constexpr (kFractions) f = simd::CellFractions{fu, fv};
   for (size_t first = 0; first < points.size(); first += kBatch) {
     const size_t n = std::min(kBatch, points.size() - first);
     const Eigen::Vector3f* p = points.data() + first;
     if (!moving) {
-      mapper.map(p, n, identity, idx, z);
-      if constexpr (kPoses) std::fill(poses, poses + n, &identity);
+      mapper.map(p, n, identity, idx, z, f);
     } else {
       motion.bins(motion.times().data() + first, n, bin);
       for (size_t k = 0; k < n;) {
         const size_t end = binRunEnd(bin, k, n);
-        const RowMajorPose& pose = motion.pose(bin[k]);
-        mapper.map(p + k, end - k, pose, idx + k, z + k);
-        if constexpr (kPoses) std::fill(poses + k, poses + end, &pose);
+        simd::CellFractions at;
+        if constexpr (kFractions) at = simd::CellFractions{fu + k, fv + k};
+        mapper.map(p + k, end - k, motion.pose(bin[k]), idx + k, z + k, at);
         k = end;
       }
     }
-    visit(idx, z, kPoses ? poses : nullptr, first, n);
+    for (size_t k = 0; k < n; ++k) {
+      to.count[idx[k]] += 1;
+      to.sum[idx[k]] += z[k];
+      if constexpr (kFractions) {
+        to.sum_u[idx[k]] += fu[k];
+        to.sum_v[idx[k]] += fv[k];
+      }
+    }
   }
 }
 
-/// Rasterises a sweep, deskewed by `motion` if it fits (mapSweepBatches(), then scattered).
-void rasteriseSweep(const PointCloud& points, const SweepMotion& motion,
-                    const GridGeometry& geometry, double min_z, double max_z, std::uint32_t* count,
-                    float* sum) {
-  mapSweepBatches<false>(
-      points, motion, geometry, min_z, max_z,
-      [&](const int* idx, const float* z, const RowMajorPose* const*, size_t, size_t n) {
-        for (size_t k = 0; k < n; ++k) {
-          count[idx[k]] += 1;
-          sum[idx[k]] += z[k];
-        }
-      });
-}
-
-/// The cells, heights and weights of weighted points seen from `pose`, in batches:
-/// visit(idx, z, w, first, n).
-template <typename Visit>
-void mapWeightedBatches(const WeightedCloud& points, const Eigen::Isometry3d& pose,
-                        const GridGeometry& geometry, double min_z, double max_z, Visit visit) {
+/// Rasterises weighted points seen from `pose`, in batches as sweeps.
+template <bool kFractions>
+void rasteriseWeighted(const WeightedCloud& points, const Eigen::Isometry3d& pose,
+                       const GridGeometry& geometry, double min_z, double max_z,
+                       const CellTargets& to) {
   const RowMajorPose m(pose.cast<float>());
   const CellMapper mapper(geometry, min_z, max_z);
   int idx[kBatch];
   float z[kBatch];
+  float fu[kBatch];
+  float fv[kBatch];
   std::uint32_t w[kBatch];
+  simd::CellFractions f;
+  if constexpr (kFractions) f = simd::CellFractions{fu, fv};
   for (size_t first = 0; first < points.size(); first += kBatch) {
     const size_t n = std::min(kBatch, points.size() - first);
-    mapper.map(points.data() + first, n, m, idx, z, w);
-    visit(idx, z, w, first, n);
+    mapper.map(points.data() + first, n, m, idx, z, w, f);
+    for (size_t k = 0; k < n; ++k) {
+      const float wk = static_cast<float>(w[k]);
+      to.count[idx[k]] += w[k];
+      to.sum[idx[k]] += wk * z[k];
+      if constexpr (kFractions) {
+        to.sum_u[idx[k]] += wk * fu[k];
+        to.sum_v[idx[k]] += wk * fv[k];
+      }
+    }
   }
 }
 
-/// Rasterises weighted points seen from `pose` (mapWeightedBatches(), then scattered).
-void rasteriseWeighted(const WeightedCloud& points, const Eigen::Isometry3d& pose,
-                       const GridGeometry& geometry, double min_z, double max_z,
-                       std::uint32_t* count, float* sum) {
-  mapWeightedBatches(points, pose, geometry, min_z, max_z,
-                     [&](const int* idx, const float* z, const std::uint32_t* w, size_t, size_t n) {
-                       for (size_t k = 0; k < n; ++k) {
-                         count[idx[k]] += w[k];
-                         sum[idx[k]] += static_cast<float>(w[k]) * z[k];
-                       }
-                     });
-}
-
 }  // namespace
-
-void mapSweepToCells(const PointCloud& points, const SweepMotion& motion,
-                     const GridGeometry& geometry, double min_z, double max_z,
-                     const std::function<void(const int* cells, const RowMajorPose* const* poses,
-                                              size_t first, size_t n)>& visit) {
-  mapSweepBatches<true>(points, motion, geometry, min_z, max_z,
-                        [&](const int* idx, const float*, const RowMajorPose* const* poses,
-                            size_t first, size_t n) { visit(idx, poses, first, n); });
-}
-
-void mapWeightedToCells(
-    const WeightedCloud& points, const Eigen::Isometry3d& pose, const GridGeometry& geometry,
-    double min_z, double max_z,
-    const std::function<void(const int* cells, size_t first, size_t n)>& visit) {
-  mapWeightedBatches(points, pose, geometry, min_z, max_z,
-                     [&](const int* idx, const float*, const std::uint32_t*, size_t first,
-                         size_t n) { visit(idx, first, n); });
-}
 
 void HeightGrid::rasterise(const PointCloud& points, const GridGeometry& geometry, int min_points,
                            double min_z, double max_z) {
@@ -181,8 +169,13 @@ void HeightGrid::rasterise(const PointCloud& points, const SweepMotion& motion,
                            HeightGrid* coarser) {
   geometry_ = geometry;
   min_points_ = min_points;
-  clearSums();
-  rasteriseSweep(points, motion, geometry, min_z, max_z, count_.data(), sum_z_.data());
+  clearSums(keep_centroids_);
+  const CellTargets to{count_.data(), sum_z_.data(), sum_u_.data(), sum_v_.data()};
+  if (keep_centroids_) {
+    rasteriseSweep<true>(points, motion, geometry, min_z, max_z, to);
+  } else {
+    rasteriseSweep<false>(points, motion, geometry, min_z, max_z, to);
+  }
   finalise(coarser);
 }
 
@@ -196,9 +189,14 @@ void HeightGrid::rasterise(const std::vector<PosedCloud>& parts, const GridGeome
                            int min_points, double min_z, double max_z, HeightGrid* coarser) {
   geometry_ = geometry;
   min_points_ = min_points;
-  clearSums();
+  clearSums(keep_centroids_);
+  const CellTargets to{count_.data(), sum_z_.data(), sum_u_.data(), sum_v_.data()};
   for (const PosedCloud& part : parts) {
-    rasteriseWeighted(*part.cloud, part.pose, geometry, min_z, max_z, count_.data(), sum_z_.data());
+    if (keep_centroids_) {
+      rasteriseWeighted<true>(*part.cloud, part.pose, geometry, min_z, max_z, to);
+    } else {
+      rasteriseWeighted<false>(*part.cloud, part.pose, geometry, min_z, max_z, to);
+    }
   }
   finalise(coarser);
 }
@@ -256,10 +254,17 @@ void HeightGrid::poolFrom(const HeightGrid& finer) {
   g.finalise(nullptr);
 }
 
-void HeightGrid::clearSums() {
+void HeightGrid::clearSums(bool centroids) {
   const size_t n = static_cast<size_t>(geometry_.cellCount()) + kDiscardCells;
   count_.assign(n, 0u);
   sum_z_.assign(n, 0.0f);
+  // clear() keeps the memory for the next frame that wants them.
+  sum_u_.clear();
+  sum_v_.clear();
+  if (centroids) {
+    sum_u_.assign(n, 0.0f);
+    sum_v_.assign(n, 0.0f);
+  }
 }
 
 namespace {

@@ -134,7 +134,7 @@ LidarOdometry::LidarOdometry(const SlamParams& params)
       aligner_(params.registration.solver),
       reference_(ReferenceModel::make(params)) {
   // The scan map (dlo::LocalHeightMap) keeps no centroids of its cells: a scan's cells are
-  // compared with it at their centres, as the map's are (HeightFrame::placeCellsOnPoints()).
+  // compared with it at their centres, as the map's are (HeightFrame::placeCellsOnCentroids()).
   if (params_.odometry.reference == Reference::kScanMap)
     params_.registration.selection.centroid_levels = 0;
 }

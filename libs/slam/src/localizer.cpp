@@ -144,7 +144,7 @@ Localizer::Localizer(PriorMap map, const LocalizerParams& params, const SlamPara
       odometry_(bridgingOdometry(slam)) {
   grid_.selection.block_size = 1;
   // The map's window keeps no centroids of its cells: a scan's cells are compared with it at
-  // their centres, as the map's are (HeightFrame::placeCellsOnPoints()).
+  // their centres, as the map's are (HeightFrame::placeCellsOnCentroids()).
   grid_.selection.centroid_levels = 0;
   while (tracking_levels_ < grid_.grid.levels &&
          map_.resolution * (1 << tracking_levels_) <= params_.tracking_basin + 1e-9) {

@@ -34,7 +34,7 @@ __attribute__((target("avx2"))) __m256i discardLanes(const CellMapping& c, size_
 /// mapPoint()'s operations for eight points, in the same order.
 __attribute__((target("avx2"))) void cells8(const CellMapping& c, const Pose8& pose,
                                             __m256i discard, __m256 px, __m256 py, __m256 pz,
-                                            int* idx, float* z) {
+                                            int* idx, float* z, float* fu, float* fv) {
   const __m256* r = pose.r;
   // Each row of the pose summed left to right, as RowMajorPose::apply().
   const __m256 x =
@@ -71,6 +71,10 @@ __attribute__((target("avx2"))) void cells8(const CellMapping& c, const Pose8& p
       reinterpret_cast<__m256i*>(idx),
       _mm256_or_si256(_mm256_and_si256(in, cell), _mm256_andnot_si256(in, discard)));
   _mm256_storeu_ps(z, h);
+  if (fu != nullptr) {
+    _mm256_storeu_ps(fu, _mm256_sub_ps(u, _mm256_cvtepi32_ps(col)));
+    _mm256_storeu_ps(fv, _mm256_sub_ps(v, _mm256_cvtepi32_ps(rr)));
+  }
 }
 
 }  // namespace
@@ -80,7 +84,8 @@ __attribute__((target("avx2"))) void cells8(const CellMapping& c, const Pose8& p
 __attribute__((target("avx2"))) size_t mapPointsAvx2(const CellMapping& cells,
                                                      const Eigen::Vector3f* p, size_t from,
                                                      size_t n, const RowMajorPose& m,
-                                                     int* __restrict__ idx, float* __restrict__ z) {
+                                                     int* __restrict__ idx, float* __restrict__ z,
+                                                     CellFractions f) {
   // A cast, not p->data(): with no points p may be null.
   const float* __restrict__ q = reinterpret_cast<const float*>(p);
   const Pose8 pose(m);
@@ -100,16 +105,15 @@ __attribute__((target("avx2"))) size_t mapPointsAvx2(const CellMapping& cells,
     const __m256 pz = _mm256_shuffle_ps(_mm256_shuffle_ps(a, b, _MM_SHUFFLE(1, 1, 2, 2)),
                                         _mm256_shuffle_ps(c, c, _MM_SHUFFLE(3, 3, 0, 0)),
                                         _MM_SHUFFLE(2, 0, 2, 0));
-    cells8(cells, pose, discard, px, py, pz, idx + k, z + k);
+    cells8(cells, pose, discard, px, py, pz, idx + k, z + k, f.u ? f.u + k : nullptr,
+           f.v ? f.v + k : nullptr);
   }
   return k;
 }
 
-__attribute__((target("avx2"))) size_t mapWeightedAvx2(const CellMapping& cells,
-                                                       const WeightedPoint* p, size_t from,
-                                                       size_t n, const RowMajorPose& m,
-                                                       int* __restrict__ idx, float* __restrict__ z,
-                                                       std::uint32_t* __restrict__ w) {
+__attribute__((target("avx2"))) size_t mapWeightedAvx2(
+    const CellMapping& cells, const WeightedPoint* p, size_t from, size_t n, const RowMajorPose& m,
+    int* __restrict__ idx, float* __restrict__ z, std::uint32_t* __restrict__ w, CellFractions f) {
   // A cast, not p->p.data(): with no points p may be null.
   const float* __restrict__ q = reinterpret_cast<const float*>(p);
   const Pose8 pose(m);
@@ -130,7 +134,8 @@ __attribute__((target("avx2"))) size_t mapWeightedAvx2(const CellMapping& cells,
     const __m256 py = _mm256_shuffle_ps(t0, t1, _MM_SHUFFLE(3, 2, 3, 2));
     const __m256 pz = _mm256_shuffle_ps(t2, t3, _MM_SHUFFLE(1, 0, 1, 0));
     const __m256 pn = _mm256_shuffle_ps(t2, t3, _MM_SHUFFLE(3, 2, 3, 2));
-    cells8(cells, pose, discard, px, py, pz, idx + k, z + k);
+    cells8(cells, pose, discard, px, py, pz, idx + k, z + k, f.u ? f.u + k : nullptr,
+           f.v ? f.v + k : nullptr);
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(w + k), _mm256_castps_si256(pn));
   }
   return k;

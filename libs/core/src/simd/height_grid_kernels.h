@@ -38,12 +38,22 @@ struct CellMapping {
   int discard;  ///< the first discard cell: geometry.cellCount()
 };
 
-/// Cell index and height of points p[from, n) mapped by `m`, into idx[k] and z[k]. Returns n.
+/// Where in their cells mapped points fell: the fractions of a cell along columns (u) and rows
+/// (v), in [0, 1) for points inside the grid (meaningless for the others). Either both
+/// pointers are null (not wanted) or neither.
+struct CellFractions {
+  float* u = nullptr;
+  float* v = nullptr;
+};
+
+/// Cell index and height of points p[from, n) mapped by `m`, into idx[k] and z[k], and where
+/// in the cell they fell into f.u[k] and f.v[k] unless f's pointers are null. Returns n.
 size_t mapPointsScalar(const CellMapping& cells, const Eigen::Vector3f* p, size_t from, size_t n,
-                       const RowMajorPose& m, int* idx, float* z);
+                       const RowMajorPose& m, int* idx, float* z, CellFractions f = {});
 /// The same for weighted points; their counts go to w[k].
 size_t mapWeightedScalar(const CellMapping& cells, const WeightedPoint* p, size_t from, size_t n,
-                         const RowMajorPose& m, int* idx, float* z, std::uint32_t* w);
+                         const RowMajorPose& m, int* idx, float* z, std::uint32_t* w,
+                         CellFractions f = {});
 
 /// Where the run of bins equal to bin[k] that continues at `from` ends: the first index in
 /// [from, n) whose bin differs, or n.
@@ -87,10 +97,11 @@ int pullColumnsScalar(const float* vs, const float* vh, int j, int j_end, float*
 /// itself: float compares may trap, which keeps it from if-converting them, and SSE2 has no
 /// 32-bit integer multiply.
 size_t mapPointsSse2(const CellMapping& cells, const Eigen::Vector3f* p, size_t from, size_t n,
-                     const RowMajorPose& m, int* idx, float* z);
+                     const RowMajorPose& m, int* idx, float* z, CellFractions f = {});
 /// mapWeightedScalar(), four points at a time.
 size_t mapWeightedSse2(const CellMapping& cells, const WeightedPoint* p, size_t from, size_t n,
-                       const RowMajorPose& m, int* idx, float* z, std::uint32_t* w);
+                       const RowMajorPose& m, int* idx, float* z, std::uint32_t* w,
+                       CellFractions f = {});
 /// binRunEndScalar(), four bins at a time (runs are hundreds of points long in firing order).
 size_t binRunEndSse2(const int* bin, size_t k, size_t from, size_t n);
 /// finaliseCellsScalar(), sixteen cells at a time.
@@ -102,10 +113,11 @@ int pullColumnsSse2(const float* vs, const float* vh, int j, int j_end, float* v
 #ifdef DLO_SIMD_AVX2_DISPATCH
 /// mapPointsScalar(), eight points at a time; only where hasAvx2().
 size_t mapPointsAvx2(const CellMapping& cells, const Eigen::Vector3f* p, size_t from, size_t n,
-                     const RowMajorPose& m, int* idx, float* z);
+                     const RowMajorPose& m, int* idx, float* z, CellFractions f = {});
 /// mapWeightedScalar(), eight points at a time; only where hasAvx2().
 size_t mapWeightedAvx2(const CellMapping& cells, const WeightedPoint* p, size_t from, size_t n,
-                       const RowMajorPose& m, int* idx, float* z, std::uint32_t* w);
+                       const RowMajorPose& m, int* idx, float* z, std::uint32_t* w,
+                       CellFractions f = {});
 #endif
 
 }  // namespace dlo::simd

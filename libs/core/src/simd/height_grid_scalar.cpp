@@ -21,7 +21,7 @@ namespace {
 
 /// One point.
 void mapPoint(const CellMapping& c, const RowMajorPose& m, float px, float py, float pz, size_t k,
-              int& idx, float& z) {
+              int& idx, float& z, const CellFractions& f) {
   float x, y, h;
   m.apply(px, py, pz, x, y, h);
   const float u = (x - c.x0) * c.inv_res;
@@ -30,24 +30,32 @@ void mapPoint(const CellMapping& c, const RowMajorPose& m, float px, float py, f
   const bool inside =
       u >= 0.0f && u < c.cols && v >= 0.0f && v < c.rows && h >= c.zlo && h <= c.zhi;
   const int discard = c.discard + static_cast<int>(k % kDiscardCells);
-  idx = inside ? static_cast<int>(v) * c.grid_cols + static_cast<int>(u) : discard;
+  const int col = inside ? static_cast<int>(u) : 0;
+  const int row = inside ? static_cast<int>(v) : 0;
+  idx = inside ? row * c.grid_cols + col : discard;
   z = h;
+  if (f.u != nullptr) {
+    // Exact: u minus its integer part.
+    f.u[k] = u - static_cast<float>(col);
+    f.v[k] = v - static_cast<float>(row);
+  }
 }
 
 }  // namespace
 
 size_t mapPointsScalar(const CellMapping& cells, const Eigen::Vector3f* p, size_t from, size_t n,
-                       const RowMajorPose& m, int* idx, float* z) {
+                       const RowMajorPose& m, int* idx, float* z, CellFractions f) {
   for (size_t k = from; k < n; ++k) {
-    mapPoint(cells, m, p[k].x(), p[k].y(), p[k].z(), k, idx[k], z[k]);
+    mapPoint(cells, m, p[k].x(), p[k].y(), p[k].z(), k, idx[k], z[k], f);
   }
   return n;
 }
 
 size_t mapWeightedScalar(const CellMapping& cells, const WeightedPoint* p, size_t from, size_t n,
-                         const RowMajorPose& m, int* idx, float* z, std::uint32_t* w) {
+                         const RowMajorPose& m, int* idx, float* z, std::uint32_t* w,
+                         CellFractions f) {
   for (size_t k = from; k < n; ++k) {
-    mapPoint(cells, m, p[k].p.x(), p[k].p.y(), p[k].p.z(), k, idx[k], z[k]);
+    mapPoint(cells, m, p[k].p.x(), p[k].p.y(), p[k].p.z(), k, idx[k], z[k], f);
     w[k] = p[k].n;
   }
   return n;

@@ -26,7 +26,7 @@ __m128i discardLanes(const CellMapping& c, size_t from) {
 
 /// mapPoint()'s operations in the same order for four points, so both give the same cells.
 void cells4(const CellMapping& c, const Pose4& m, __m128i discard4, __m128 px, __m128 py, __m128 pz,
-            int* idx, float* z) {
+            int* idx, float* z, float* fu, float* fv) {
   const auto row = [&](int i) {
     return _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(m.r[i], px), _mm_mul_ps(m.r[i + 1], py)),
                                  _mm_mul_ps(m.r[i + 2], pz)),
@@ -54,12 +54,17 @@ void cells4(const CellMapping& c, const Pose4& m, __m128i discard4, __m128 px, _
   _mm_storeu_si128(reinterpret_cast<__m128i*>(idx),
                    _mm_or_si128(_mm_and_si128(in, cell), _mm_andnot_si128(in, discard4)));
   _mm_storeu_ps(z, h);
+  if (fu != nullptr) {
+    _mm_storeu_ps(fu, _mm_sub_ps(u, _mm_cvtepi32_ps(col)));
+    _mm_storeu_ps(fv, _mm_sub_ps(v, _mm_cvtepi32_ps(r)));
+  }
 }
 
 }  // namespace
 
 size_t mapPointsSse2(const CellMapping& cells, const Eigen::Vector3f* p, size_t from, size_t n,
-                     const RowMajorPose& m, int* __restrict__ idx, float* __restrict__ z) {
+                     const RowMajorPose& m, int* __restrict__ idx, float* __restrict__ z,
+                     CellFractions f) {
   // A cast, not p->data(): with no points p may be null.
   const float* __restrict__ q = reinterpret_cast<const float*>(p);
   const Pose4 pose(m);
@@ -81,14 +86,15 @@ size_t mapPointsSse2(const CellMapping& cells, const Eigen::Vector3f* p, size_t 
     const __m128 pz =
         _mm_shuffle_ps(_mm_shuffle_ps(a, b, _MM_SHUFFLE(1, 1, 2, 2)),
                        _mm_shuffle_ps(c, c, _MM_SHUFFLE(3, 3, 0, 0)), _MM_SHUFFLE(2, 0, 2, 0));
-    cells4(cells, pose, discard4, px, py, pz, idx + k, z + k);
+    cells4(cells, pose, discard4, px, py, pz, idx + k, z + k, f.u ? f.u + k : nullptr,
+           f.v ? f.v + k : nullptr);
   }
   return k;
 }
 
 size_t mapWeightedSse2(const CellMapping& cells, const WeightedPoint* p, size_t from, size_t n,
                        const RowMajorPose& m, int* __restrict__ idx, float* __restrict__ z,
-                       std::uint32_t* __restrict__ w) {
+                       std::uint32_t* __restrict__ w, CellFractions f) {
   static_assert(sizeof(WeightedPoint) == 4 * sizeof(float), "x y z n, packed");
   // A cast, not p->p.data(): with no points p may be null.
   const float* __restrict__ q = reinterpret_cast<const float*>(p);
@@ -103,7 +109,8 @@ size_t mapWeightedSse2(const CellMapping& cells, const WeightedPoint* p, size_t 
     __m128 pz = _mm_loadu_ps(q + 4 * k + 8);
     __m128 pn = _mm_loadu_ps(q + 4 * k + 12);
     _MM_TRANSPOSE4_PS(px, py, pz, pn);
-    cells4(cells, pose, discard4, px, py, pz, idx + k, z + k);
+    cells4(cells, pose, discard4, px, py, pz, idx + k, z + k, f.u ? f.u + k : nullptr,
+           f.v ? f.v + k : nullptr);
     _mm_storeu_si128(reinterpret_cast<__m128i*>(w + k), _mm_castps_si128(pn));
   }
   return k;

@@ -19,7 +19,7 @@ struct SelectionParams {
   /// The finest levels whose cells stand at the centroids of their points, in the scan and in
   /// the reference alike (a cell's mean height is measured where its points are, not at its
   /// centre); 0: every cell at its centre (the paper, the default). See
-  /// HeightFrame::placeCellsOnPoints(); measured in docs/benchmarks.md.
+  /// HeightFrame::placeCellsOnCentroids(); measured in docs/benchmarks.md.
   int centroid_levels = 0;
 };
 

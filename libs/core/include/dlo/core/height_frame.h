@@ -23,7 +23,7 @@ struct FrameLevel {
   std::vector<SelectedCell> cells;  ///< used when this frame is the current scan
   /// Current scan: per selected cell, the centroid of its points minus the cell's centre (empty:
   /// not computed). Reference: per grid cell, row-major, the same offsets of its measured cells,
-  /// zero where the height was filled (empty: not computed). See placeCellsOnPoints().
+  /// zero where the height was filled (empty: not computed). See placeCellsOnCentroids().
   std::vector<Eigen::Vector2f> cell_offsets;
   std::vector<Eigen::Vector2f> grid_offsets;
 };
@@ -93,47 +93,34 @@ class HeightFrame {
 
  private:
   /// Level 0 by `rasterise_finest` (into the centred geometry of `grid`, pooling level 1 into
-  /// its third argument when that is not null), then buildLevels().
+  /// its third argument when that is not null, keeping its centroid sums with `centroids`),
+  /// then buildLevels().
   void buildWith(
       const std::function<void(HeightGrid&, const GridGeometry&, HeightGrid*)>& rasterise_finest,
       const HeightGridParams& grid, const SelectionParams& selection, bool include_ground,
-      FrameUse use = FrameUse::kCurrentAndReference);
+      FrameUse use, bool centroids);
   /// Levels whose cells stand at their points' centroids: selection.centroid_levels, at most
-  /// the frame's levels.
-  size_t centroidLevels(const SelectionParams& selection) const;
-  /// The centroids of a frame built from a sweep (moved by `motion` as it was rasterised): the
-  /// offsets of every measured cell if the frame can be a reference (placeGrid()), of every
-  /// selected cell if it can be the current scan (placeCellsOnPoints()), on the levels
-  /// centroidLevels(selection).
-  void placeOnPoints(const PointCloud& points, const SweepMotion& motion,
-                     const HeightGridParams& grid, const SelectionParams& selection);
-  /// Adds the weighted sums of x, y and the weights of the points of `parts` to the cells of
-  /// level 0 they fall in (`sums`, one per cell), as rasterise(parts, ...) counts them.
-  void addCentroidSums(const std::vector<PosedCloud>& parts, const HeightGridParams& grid,
-                       std::vector<Eigen::Vector3d>& sums) const;
-  /// FrameLevel::grid_offsets of levels 0..n_levels-1 from the sums of x, y and the weights of
-  /// level 0's cells, which `add` fills (zeroed, one per cell); coarser levels pool them.
-  void placeGrid(size_t n_levels, const std::function<void(std::vector<Eigen::Vector3d>&)>& add);
+  /// the grid's levels.
+  static size_t centroidLevels(const HeightGridParams& grid, const SelectionParams& selection);
+  /// The centroids of a frame whose level 0 kept its centroid sums: the offsets of every
+  /// measured cell if the frame can be a reference (placeGrid()), of every selected cell if it
+  /// can be the current scan (placeCellsOnCentroids()), on levels 0..n_levels-1.
+  void placeOnCentroids(size_t n_levels);
+  /// FrameLevel::grid_offsets of levels 0..n_levels-1 from level 0's centroid sums (nothing if
+  /// it kept none); coarser levels pool them.
+  void placeGrid(size_t n_levels);
   /// FrameLevel::cell_offsets of levels 0..n_levels-1: each selected cell's offset from its
-  /// centre to the centroid of the points of the sweep that made it. Where a scan samples a
-  /// cell unevenly (a ring of a spinning sensor crossing a kerb's edge), the cell's mean height
-  /// is measured where its points are, not at its centre: compared at the centre, it carries a
-  /// bias that moves with the sensor and pulls registrations towards no motion.
-  void placeCellsOnPoints(const PointCloud& points, const SweepMotion& motion,
-                          const HeightGridParams& grid, size_t n_levels);
+  /// centre to the centroid of the points that made it. Where a scan samples a cell unevenly (a
+  /// ring of a spinning sensor crossing a kerb's edge), the cell's mean height is measured where
+  /// its points are, not at its centre: compared at the centre, it carries a bias that moves
+  /// with the sensor and pulls registrations towards no motion.
+  void placeCellsOnCentroids(size_t n_levels);
   /// Levels 1.. from level 0 (from 2 when `level1_pooled`: level 1 was made with level 0), hole
   /// filling, gradients and selection on every level.
   void buildLevels(const SelectionParams& selection, bool include_ground, FrameUse use,
                    bool level1_pooled);
 
   std::vector<FrameLevel> levels_;
-  /// placeCellsOnPoints()'s scratch: per level, the selected cell of each grid cell (-1: none)
-  /// and the sums of the selected cells' point positions; a bit per cell of level 0 (covered by
-  /// a selected cell of some level or not).
-  std::vector<std::vector<int>> slot_of_cell_;
-  std::vector<std::vector<std::uint64_t>> selected_bits_;
-  std::vector<std::uint64_t> covered_bits_;
-  std::vector<std::vector<Eigen::Vector3d>> centroid_sums_;
   bool can_be_reference_ = true;
   bool can_be_current_ = true;
   StageTimes times_;

@@ -75,6 +75,18 @@ class HeightGrid {
   void rasterise(const std::vector<PosedCloud>& parts, const GridGeometry& geometry, int min_points,
                  double min_z, double max_z, HeightGrid* coarser = nullptr);
 
+  /// With `keep`, the next rasterisations of sweeps and posed clouds also sum where in its cell
+  /// each point fell (centroidSumsU(), centroidSumsV()): two more arrays to clear and add into,
+  /// so off by default.
+  void keepCentroidSums(bool keep) { keep_centroids_ = keep; }
+  /// Per cell (row-major, then a few discard cells), the sum over its points of where along the
+  /// cell's columns each fell, as a fraction of the cell in [0, 1), weighted like count(): the
+  /// centroid's x is x_min + resolution * (col + sumU / count). Empty unless the last
+  /// rasterisation kept them (keepCentroidSums()).
+  const std::vector<float>& centroidSumsU() const { return sum_u_; }
+  /// The same along rows (y).
+  const std::vector<float>& centroidSumsV() const { return sum_v_; }
+
   /// Per-cell point counts and height sums, row-major, for accumulateCells().
   using CellFiller = std::function<void(std::uint32_t* count, float* sum)>;
   /// Rebuilds this grid from the counts and height sums that `fill` writes into zeroed arrays
@@ -143,8 +155,9 @@ class HeightGrid {
  private:
   int index(int row, int col) const { return row * geometry_.cols + col; }
   /// Zeroes count_ and sum_z_ for geometry_: one entry per cell plus a few last "discard"
-  /// cells that rasterisation sends rejected points to.
-  void clearSums();
+  /// cells that rasterisation sends rejected points to; sum_u_ and sum_v_ too with `centroids`,
+  /// else empties them.
+  void clearSums(bool centroids = false);
   /// Makes this grid the empty coarser() level of `finer` (geometry, minimum points, zeroed
   /// sums), ready for finer's cells to be pooled into it.
   void startPooling(const HeightGrid& finer);
@@ -157,25 +170,12 @@ class HeightGrid {
   int valid_cells_ = 0;
   std::vector<std::uint32_t> count_;
   std::vector<float> sum_z_;
+  bool keep_centroids_ = false;
+  std::vector<float> sum_u_;
+  std::vector<float> sum_v_;
   std::vector<float> height_;
   std::vector<std::uint8_t> valid_;
   std::vector<std::uint8_t> support_;
 };
-
-/// The cells that HeightGrid::rasterise(points, motion, geometry, ...) puts the points of a sweep
-/// in: visit(cells, poses, first, n) for each batch of points first..first + n, where cells[k]
-/// is point first + k's row-major cell index in `geometry` (geometry.cellCount() or more for a
-/// point that rasterisation discards: outside the grid or [min_z, max_z], not finite) and
-/// *poses[k] the pose that moves it where rasterisation counts it (RowMajorPose::operator*).
-void mapSweepToCells(const PointCloud& points, const SweepMotion& motion,
-                     const GridGeometry& geometry, double min_z, double max_z,
-                     const std::function<void(const int* cells, const RowMajorPose* const* poses,
-                                              size_t first, size_t n)>& visit);
-
-/// The same for weighted points seen from `pose`, as HeightGrid::rasterise(parts, ...) maps
-/// them: visit(cells, first, n).
-void mapWeightedToCells(const WeightedCloud& points, const Eigen::Isometry3d& pose,
-                        const GridGeometry& geometry, double min_z, double max_z,
-                        const std::function<void(const int* cells, size_t first, size_t n)>& visit);
 
 }  // namespace dlo
