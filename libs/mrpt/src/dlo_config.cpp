@@ -44,8 +44,7 @@ const std::vector<ParamField<DloParams>>& fields() {
             "the finest levels whose cells are compared where their points are (their "
             "centroids), in the scan and the reference alike, so that a cell a spinning "
             "sensor's ring samples on one side (a kerb's edge) is not biased by the part it did "
-            "not see (2 on the simulated dense drives: 8-13 % less drift, about twice the time per "
-            "scan; ignored against the scan map); 0: at the cells' centres (the paper)"),
+            "not see (ignored against the scan map); 0: at the cells' centres (the paper)"),
       field("solver", "dof", &D::solver, &V::dof,
             "3 (x, y, yaw) or 6 (full SE(3), z, roll and pitch observed from the ground)"),
       field("solver", "max_iterations", &D::solver, &V::max_iterations, "per pyramid level"),
