@@ -111,7 +111,7 @@ void HeightFrame::placeOnCentroids(size_t n_levels) {
 
 void HeightFrame::placeGrid(size_t n_levels) {
   const HeightGrid& level0 = levels_[0].grid;
-  if (n_levels == 0 || level0.centroidSumsU().empty()) return;
+  if (n_levels == 0 || level0.centroidSums().empty()) return;
   Stopwatch sw;
   // Per cell of level k, the sums of where its points fell, in cells of level 0 from the
   // cell's corner, and of their weights: level 0's own sums, then pooled level by level (a
@@ -130,8 +130,13 @@ void HeightFrame::placeGrid(size_t n_levels) {
     const GridGeometry& geo = level.grid.geometry();
     const size_t cells = static_cast<size_t>(geo.cellCount());
     if (k == 0) {
-      su.assign(level0.centroidSumsU().begin(), level0.centroidSumsU().begin() + cells);
-      sv.assign(level0.centroidSumsV().begin(), level0.centroidSumsV().begin() + cells);
+      const std::vector<float>& uv = level0.centroidSums();
+      su.resize(cells);
+      sv.resize(cells);
+      for (size_t i = 0; i < cells; ++i) {
+        su[i] = uv[2 * i];
+        sv[i] = uv[2 * i + 1];
+      }
       sn.resize(cells);
       for (int r = 0; r < geo.rows; ++r) {
         for (int c = 0; c < geo.cols; ++c) {
@@ -179,9 +184,8 @@ void HeightFrame::placeGrid(size_t n_levels) {
 
 void HeightFrame::placeCellsOnCentroids(size_t n_levels) {
   const HeightGrid& level0 = levels_[0].grid;
-  const std::vector<float>& sum_u = level0.centroidSumsU();
-  const std::vector<float>& sum_v = level0.centroidSumsV();
-  if (sum_u.empty()) return;
+  const std::vector<float>& uv = level0.centroidSums();
+  if (uv.empty()) return;
   const GridGeometry& geo0 = level0.geometry();
   for (size_t k = 0; k < n_levels && k < levels_.size(); ++k) {
     FrameLevel& level = levels_[k];
@@ -197,8 +201,8 @@ void HeightFrame::placeCellsOnCentroids(size_t n_levels) {
         for (int c0 = col * side; c0 < std::min(geo0.cols, (col + 1) * side); ++c0) {
           const size_t j = static_cast<size_t>(r0 * geo0.cols + c0);
           const double n0 = level0.count(r0, c0);
-          su += n0 * c0 + sum_u[j];
-          sv += n0 * r0 + sum_v[j];
+          su += n0 * c0 + uv[2 * j];
+          sv += n0 * r0 + uv[2 * j + 1];
           n += n0;
         }
       }

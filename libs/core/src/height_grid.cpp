@@ -76,13 +76,12 @@ size_t binRunEnd(const int* bin, size_t k, size_t n) {
 constexpr size_t kBatch = 256;
 
 /// Where rasterisation adds its points: counts and height sums per cell, and with
-/// `sum_u` (not null) the sums of where in their cells the points fell
-/// (HeightGrid::centroidSumsU()).
+/// `sum_uv` (not null) the sums of where in their cells the points fell, u and v of a cell side
+/// by side (HeightGrid::centroidSums()): one cache line for both.
 struct CellTargets {
   std::uint32_t* count;
   float* sum;
-  float* sum_u;
-  float* sum_v;
+  float* sum_uv;
 };
 
 /// Rasterises a sweep, deskewed by `motion` if it fits, in batches: the cells of a batch are
@@ -121,8 +120,9 @@ void rasteriseSweep(const PointCloud& points, const SweepMotion& motion,
       to.count[idx[k]] += 1;
       to.sum[idx[k]] += z[k];
       if constexpr (kFractions) {
-        to.sum_u[idx[k]] += fu[k];
-        to.sum_v[idx[k]] += fv[k];
+        float* uv = to.sum_uv + 2 * static_cast<size_t>(idx[k]);
+        uv[0] += fu[k];
+        uv[1] += fv[k];
       }
     }
   }
@@ -150,8 +150,9 @@ void rasteriseWeighted(const WeightedCloud& points, const Eigen::Isometry3d& pos
       to.count[idx[k]] += w[k];
       to.sum[idx[k]] += wk * z[k];
       if constexpr (kFractions) {
-        to.sum_u[idx[k]] += wk * fu[k];
-        to.sum_v[idx[k]] += wk * fv[k];
+        float* uv = to.sum_uv + 2 * static_cast<size_t>(idx[k]);
+        uv[0] += wk * fu[k];
+        uv[1] += wk * fv[k];
       }
     }
   }
@@ -170,7 +171,7 @@ void HeightGrid::rasterise(const PointCloud& points, const SweepMotion& motion,
   geometry_ = geometry;
   min_points_ = min_points;
   clearSums(keep_centroids_);
-  const CellTargets to{count_.data(), sum_z_.data(), sum_u_.data(), sum_v_.data()};
+  const CellTargets to{count_.data(), sum_z_.data(), sum_uv_.data()};
   if (keep_centroids_) {
     rasteriseSweep<true>(points, motion, geometry, min_z, max_z, to);
   } else {
@@ -190,7 +191,7 @@ void HeightGrid::rasterise(const std::vector<PosedCloud>& parts, const GridGeome
   geometry_ = geometry;
   min_points_ = min_points;
   clearSums(keep_centroids_);
-  const CellTargets to{count_.data(), sum_z_.data(), sum_u_.data(), sum_v_.data()};
+  const CellTargets to{count_.data(), sum_z_.data(), sum_uv_.data()};
   for (const PosedCloud& part : parts) {
     if (keep_centroids_) {
       rasteriseWeighted<true>(*part.cloud, part.pose, geometry, min_z, max_z, to);
@@ -259,12 +260,8 @@ void HeightGrid::clearSums(bool centroids) {
   count_.assign(n, 0u);
   sum_z_.assign(n, 0.0f);
   // clear() keeps the memory for the next frame that wants them.
-  sum_u_.clear();
-  sum_v_.clear();
-  if (centroids) {
-    sum_u_.assign(n, 0.0f);
-    sum_v_.assign(n, 0.0f);
-  }
+  sum_uv_.clear();
+  if (centroids) sum_uv_.assign(2 * n, 0.0f);
 }
 
 namespace {

@@ -76,16 +76,15 @@ class HeightGrid {
                  double min_z, double max_z, HeightGrid* coarser = nullptr);
 
   /// With `keep`, the next rasterisations of sweeps and posed clouds also sum where in its cell
-  /// each point fell (centroidSumsU(), centroidSumsV()): two more arrays to clear and add into,
-  /// so off by default.
+  /// each point fell (centroidSums()): one more array to clear and add into, so off by default.
   void keepCentroidSums(bool keep) { keep_centroids_ = keep; }
-  /// Per cell (row-major, then a few discard cells), the sum over its points of where along the
-  /// cell's columns each fell, as a fraction of the cell in [0, 1), weighted like count(): the
-  /// centroid's x is x_min + resolution * (col + sumU / count). Empty unless the last
-  /// rasterisation kept them (keepCentroidSums()).
-  const std::vector<float>& centroidSumsU() const { return sum_u_; }
-  /// The same along rows (y).
-  const std::vector<float>& centroidSumsV() const { return sum_v_; }
+  /// Per cell (row-major, then a few discard cells), two sums over its points, weighted like
+  /// count(): at 2 i, where along the cell's columns each fell, as a fraction of the cell in
+  /// [0, 1); at 2 i + 1, the same along its rows. The centroid of cell (row, col) is
+  /// x = x_min + resolution * (col + sums[2 i] / count), y = y_min + resolution * (row +
+  /// sums[2 i + 1] / count). Empty unless the last rasterisation kept them
+  /// (keepCentroidSums()).
+  const std::vector<float>& centroidSums() const { return sum_uv_; }
 
   /// Per-cell point counts and height sums, row-major, for accumulateCells().
   using CellFiller = std::function<void(std::uint32_t* count, float* sum)>;
@@ -155,7 +154,7 @@ class HeightGrid {
  private:
   int index(int row, int col) const { return row * geometry_.cols + col; }
   /// Zeroes count_ and sum_z_ for geometry_: one entry per cell plus a few last "discard"
-  /// cells that rasterisation sends rejected points to; sum_u_ and sum_v_ too with `centroids`,
+  /// cells that rasterisation sends rejected points to; sum_uv_ too with `centroids`,
   /// else empties them.
   void clearSums(bool centroids = false);
   /// Makes this grid the empty coarser() level of `finer` (geometry, minimum points, zeroed
@@ -171,8 +170,7 @@ class HeightGrid {
   std::vector<std::uint32_t> count_;
   std::vector<float> sum_z_;
   bool keep_centroids_ = false;
-  std::vector<float> sum_u_;
-  std::vector<float> sum_v_;
+  std::vector<float> sum_uv_;
   std::vector<float> height_;
   std::vector<std::uint8_t> valid_;
   std::vector<std::uint8_t> support_;
