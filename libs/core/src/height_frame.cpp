@@ -23,14 +23,7 @@ HeightFrame HeightFrame::fromGrid(const HeightGrid& finest, int levels,
 
 void HeightFrame::build(const PointCloud& points, const HeightGridParams& grid,
                         const SelectionParams& selection, bool include_ground) {
-  buildWith(
-      [&](HeightGrid& finest, const GridGeometry& geometry, HeightGrid* coarser) {
-        finest.rasterise(points, SweepMotion(), geometry, grid.min_points, grid.min_z, grid.max_z,
-                         coarser);
-      },
-      grid, selection, include_ground, FrameUse::kCurrentAndReference,
-      centroidLevels(grid, selection) > 0);
-  placeOnCentroids(centroidLevels(grid, selection));
+  build(points, SweepMotion(), grid, selection, include_ground, FrameUse::kCurrentAndReference);
 }
 
 void HeightFrame::build(const PointCloud& points, const SweepMotion& motion,
@@ -118,11 +111,9 @@ void HeightFrame::placeGrid(size_t n_levels) {
   // child's sums move by its corner's place in its parent). Scratch of the thread, not of the
   // frame: megabytes that every frame built as a reference (the keyframe map, a loop
   // closure's) would otherwise keep.
-  thread_local std::vector<float> su_scratch, sv_scratch, sn_scratch;
-  thread_local std::vector<float> pu_scratch, pv_scratch, pn_scratch;
-  std::vector<float>& su = su_scratch;
-  std::vector<float>& sv = sv_scratch;
-  std::vector<float>& sn = sn_scratch;
+  thread_local std::vector<Eigen::Vector3f> sums_scratch, pooled_scratch;
+  std::vector<Eigen::Vector3f>& sums = sums_scratch;  // along columns, along rows, weight
+  std::vector<Eigen::Vector3f>& pooled = pooled_scratch;
   const GridGeometry& geo0 = level0.geometry();
   const float res0 = static_cast<float>(geo0.resolution);
   for (size_t k = 0; k < n_levels; ++k) {
@@ -131,41 +122,28 @@ void HeightFrame::placeGrid(size_t n_levels) {
     const size_t cells = static_cast<size_t>(geo.cellCount());
     if (k == 0) {
       const std::vector<float>& uv = level0.centroidSums();
-      su.resize(cells);
-      sv.resize(cells);
-      for (size_t i = 0; i < cells; ++i) {
-        su[i] = uv[2 * i];
-        sv[i] = uv[2 * i + 1];
-      }
-      sn.resize(cells);
+      sums.resize(cells);
       for (int r = 0; r < geo.rows; ++r) {
         for (int c = 0; c < geo.cols; ++c) {
-          sn[static_cast<size_t>(r * geo.cols + c)] = static_cast<float>(level0.count(r, c));
+          const size_t i = static_cast<size_t>(r * geo.cols + c);
+          sums[i] =
+              Eigen::Vector3f(uv[2 * i], uv[2 * i + 1], static_cast<float>(level0.count(r, c)));
         }
       }
     } else {
       const GridGeometry& fine = levels_[k - 1].grid.geometry();
       const float half = static_cast<float>(1 << (k - 1));  // a child's side, in level-0 cells
-      std::vector<float>& pu = pu_scratch;
-      std::vector<float>& pv = pv_scratch;
-      std::vector<float>& pn = pn_scratch;
-      pu.assign(cells, 0.0f);
-      pv.assign(cells, 0.0f);
-      pn.assign(cells, 0.0f);
+      pooled.assign(cells, Eigen::Vector3f::Zero());
       for (int r = 0; r < fine.rows; ++r) {
         const float dv = static_cast<float>(r % 2) * half;
         for (int c = 0; c < fine.cols; ++c) {
-          const size_t from = static_cast<size_t>(r * fine.cols + c);
-          const size_t to = static_cast<size_t>((r / 2) * geo.cols + c / 2);
+          const Eigen::Vector3f& s = sums[static_cast<size_t>(r * fine.cols + c)];
           const float du = static_cast<float>(c % 2) * half;
-          pu[to] += su[from] + sn[from] * du;
-          pv[to] += sv[from] + sn[from] * dv;
-          pn[to] += sn[from];
+          pooled[static_cast<size_t>((r / 2) * geo.cols + c / 2)] +=
+              Eigen::Vector3f(s.x() + s.z() * du, s.y() + s.z() * dv, s.z());
         }
       }
-      su.swap(pu);
-      sv.swap(pv);
-      sn.swap(pn);
+      sums.swap(pooled);
     }
     // Filled cells stay at their centres: their heights are interpolated there.
     level.grid_offsets.assign(cells, Eigen::Vector2f::Zero());
@@ -173,9 +151,10 @@ void HeightFrame::placeGrid(size_t n_levels) {
     for (int r = 0; r < geo.rows; ++r) {
       for (int c = 0; c < geo.cols; ++c) {
         const size_t i = static_cast<size_t>(r * geo.cols + c);
-        if (!level.grid.isValid(r, c) || !(sn[i] > 0.0f)) continue;
+        const Eigen::Vector3f& s = sums[i];
+        if (!level.grid.isValid(r, c) || !(s.z() > 0.0f)) continue;
         level.grid_offsets[i] =
-            Eigen::Vector2f(res0 * (su[i] / sn[i] - centre), res0 * (sv[i] / sn[i] - centre));
+            Eigen::Vector2f(res0 * (s.x() / s.z() - centre), res0 * (s.y() / s.z() - centre));
       }
     }
   }
