@@ -43,3 +43,6 @@ echo "install_deps: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+# The downloaded packages (about 1.4 GB on a fresh machine) are not needed once installed: a CI
+# machine with little disk ran out of space linking the tests with them kept.
+$SUDO apt-get clean
