@@ -142,7 +142,12 @@ struct SlamParams {
   /// centroids (selection.centroid_levels = 2, the dense profile): against the keyframe map 8-13 %
   /// less drift on the simulated dense drives than at the cells' centres (docs/benchmarks.md).
   /// DloParams alone keeps the paper's cell centres (dlo-register, CDirectHeightAligner).
-  SlamParams() { registration.selection.centroid_levels = 2; }
+  /// It also leaves the scan's cells within 6 m of the sensor out (selection.min_range, the
+  /// dense profile): see SelectionParams::min_range.
+  SlamParams() {
+    registration.selection.centroid_levels = 2;
+    registration.selection.min_range = 6.0;
+  }
 
   DloParams registration;   ///< [grid] [selection] [solver]
   OdometryParams odometry;  ///< [odometry]
