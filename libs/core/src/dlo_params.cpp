@@ -1,7 +1,5 @@
 #include "dlo/core/dlo_params.h"
 
-#include <cmath>
-
 #include "dlo/core/range_message.h"
 
 namespace dlo {
@@ -27,8 +25,6 @@ std::string DloParams::validate() const {
     return outOfRange("selection.max_cells", selection.max_cells, "a positive count");
   if (selection.centroid_levels < 0)
     return outOfRange("selection.centroid_levels", selection.centroid_levels, "0 (off) or more");
-  if (!(selection.min_range >= 0.0) || !std::isfinite(selection.min_range))
-    return outOfRange("selection.min_range", selection.min_range, "a distance >= 0 in metres");
   if (selection.ground_stride < 0)
     return outOfRange("selection.ground_stride", selection.ground_stride, "0 (off) or more");
   if (solver.dof != 3 && solver.dof != 6) return outOfRange("solver.dof", solver.dof, "3 or 6");

@@ -4,18 +4,6 @@
 
 namespace dlo {
 
-namespace {
-/// Drops the cells closer than `range` to the grid's origin (SelectionParams::min_range); the
-/// 6-DoF ground lattice's cells stay.
-void dropNearCells(float range, std::vector<SelectedCell>& cells) {
-  const float r2 = range * range;
-  cells.erase(std::remove_if(
-                  cells.begin(), cells.end(),
-                  [r2](const SelectedCell& c) { return !c.ground && c.x * c.x + c.y * c.y < r2; }),
-              cells.end());
-}
-}  // namespace
-
 HeightFrame HeightFrame::fromPoints(const PointCloud& points, const HeightGridParams& grid,
                                     const SelectionParams& selection, bool include_ground) {
   HeightFrame f;
@@ -246,8 +234,6 @@ void HeightFrame::buildLevels(const SelectionParams& selection, bool include_gro
           k < first_filled && k + 1 < levels_.size() ? &levels_[k + 1].grid : nullptr;
       selectHighGradientCells(level.grid, fill_source, at_level, include_ground, level.cells);
     }
-    if (selection.min_range > 0.0)
-      dropNearCells(static_cast<float>(selection.min_range), level.cells);
     times_.selection_ms += sel.elapsedMs();
   }
 }

@@ -45,10 +45,6 @@ const std::vector<ParamField<DloParams>>& fields() {
             "centroids), in the scan and the reference alike, so that a cell a spinning "
             "sensor's ring samples on one side (a kerb's edge) is not biased by the part it did "
             "not see (ignored against the scan map); 0: at the cells' centres (the paper)"),
-      field("selection", "min_range", &D::selection, &S::min_range,
-            "metres: the scan's cells closer than this to the sensor are not registered (where "
-            "each ring crosses a kerb moves with the sensor, which pulls a scan on a uniform "
-            "street towards the keyframe taken where it is); 0 keeps them all (the paper)"),
       field("solver", "dof", &D::solver, &V::dof,
             "3 (x, y, yaw) or 6 (full SE(3), z, roll and pitch observed from the ground)"),
       field("solver", "max_iterations", &D::solver, &V::max_iterations, "per pyramid level"),

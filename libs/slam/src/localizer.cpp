@@ -35,8 +35,6 @@ constexpr double kDeg = M_PI / 180.0;
 /// 99.5 % on seed 1): the map decides where the vehicle is, the odometry only carries it over.
 SlamParams bridgingOdometry(SlamParams slam) {
   slam.registration.selection.centroid_levels = 0;
-  // Measured without it (docs/benchmarks.md): the localiser's registrations keep every cell.
-  slam.registration.selection.min_range = 0.0;
   return slam;
 }
 
@@ -148,7 +146,6 @@ Localizer::Localizer(PriorMap map, const LocalizerParams& params, const SlamPara
   // The map's window keeps no centroids of its cells: a scan's cells are compared with it at
   // their centres, as the map's are (HeightFrame::placeCellsOnCentroids()).
   grid_.selection.centroid_levels = 0;
-  grid_.selection.min_range = 0.0;
   while (tracking_levels_ < grid_.grid.levels &&
          map_.resolution * (1 << tracking_levels_) <= params_.tracking_basin + 1e-9) {
     ++tracking_levels_;

@@ -21,13 +21,6 @@ struct SelectionParams {
   /// centre); 0: every cell at its centre (the paper, the default). See
   /// HeightFrame::placeCellsOnCentroids(); measured in docs/benchmarks.md.
   int centroid_levels = 0;
-  /// Metres: cells of the current scan closer than this to the grid's origin (the sensor) are
-  /// not selected, on any level; 0 keeps them all (the paper, the default). Near a spinning
-  /// sensor a kerb or a wall's foot is crossed by one ring at a time, and where each ring crosses
-  /// it moves with the sensor: two scans taken at the same place share that pattern, and on a
-  /// street that is uniform along its length it fits better at no motion than the street does at
-  /// the true motion (docs/benchmarks.md). Ground cells of the 6-DoF lattice are kept.
-  double min_range = 0.0;
 };
 
 /// A selected cell: its centre in the grid frame and its mean height.

@@ -142,12 +142,7 @@ struct SlamParams {
   /// centroids (selection.centroid_levels = 2, the dense profile): against the keyframe map 8-13 %
   /// less drift on the simulated dense drives than at the cells' centres (docs/benchmarks.md).
   /// DloParams alone keeps the paper's cell centres (dlo-register, CDirectHeightAligner).
-  /// It also leaves the scan's cells within 6 m of the sensor out (selection.min_range, the
-  /// dense profile): see SelectionParams::min_range.
-  SlamParams() {
-    registration.selection.centroid_levels = 2;
-    registration.selection.min_range = 6.0;
-  }
+  SlamParams() { registration.selection.centroid_levels = 2; }
 
   DloParams registration;   ///< [grid] [selection] [solver]
   OdometryParams odometry;  ///< [odometry]
