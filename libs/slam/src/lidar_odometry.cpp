@@ -661,8 +661,8 @@ bool LidarOdometry::evidenceSupports(const std::vector<Answer>& answers, size_t 
   // lowering the cost by at most a quarter).
   // Each scan that kept the prediction makes it older and less certain: the prior widens with
   // the run, as the disagreement bound does.
-  const double scale = (weak ? 0.25 * kPriorScale : kPriorScale) * (1.0 + rejected_run_);
-  double d = deviation(winner.pose, predicted) / scale;
+  const double widen = (weak ? 0.25 : 1.0) * (1.0 + rejected_run_);
+  double d = deviation(winner.pose, predicted) / (kPriorScale * widen);
   // Against keyframes, an answer that brings the scan nearer to where the newest keyframe was
   // taken than the prediction is has its translation weighed on a quarter of that scale
   // (kTowardsKeyframeScale): 0.35 m must halve the cost. Two scans from one place share what
@@ -673,11 +673,9 @@ bool LidarOdometry::evidenceSupports(const std::vector<Answer>& answers, size_t 
   // tell; the speed can, which a car changes by 0.7 m/s per scan even braking hard.
   if (reference_->madeOfKeyframes()) {
     const Eigen::Vector3d anchor = reference_->pose().translation();
-    const Eigen::Vector3d moved = winner.pose.translation() - predicted.translation();
     if ((winner.pose.translation() - anchor).norm() < (predicted.translation() - anchor).norm()) {
-      const double t_scale =
-          (weak ? 0.25 * kTowardsKeyframeScale : kTowardsKeyframeScale) * (1.0 + rejected_run_);
-      d = std::max(d, moved.norm() / t_scale);
+      const double moved = (winner.pose.translation() - predicted.translation()).norm();
+      d = std::max(d, moved / (kTowardsKeyframeScale * widen));
     }
   }
   const double demanded = weak ? std::min(1.0, d * d) : std::min(kConvincing, d * d);
