@@ -107,55 +107,62 @@ void HeightFrame::placeGrid(size_t n_levels) {
   if (n_levels == 0 || level0.centroidSums().empty()) return;
   Stopwatch sw;
   // Per cell of level k, the sums of where its points fell, in cells of level 0 from the
-  // cell's corner, and of their weights: level 0's own sums, then pooled level by level (a
-  // child's sums move by its corner's place in its parent). Scratch of the thread, not of the
-  // frame: megabytes that every frame built as a reference (the keyframe map, a loop
+  // cell's corner, and of their weights: level 0's own sums (read in place), then pooled level
+  // by level (a child's sums move by its corner's place in its parent). Scratch of the thread,
+  // not of the frame: megabytes that every frame built as a reference (the keyframe map, a loop
   // closure's) would otherwise keep.
   thread_local std::vector<Eigen::Vector3f> sums_scratch, pooled_scratch;
   std::vector<Eigen::Vector3f>& sums = sums_scratch;  // along columns, along rows, weight
   std::vector<Eigen::Vector3f>& pooled = pooled_scratch;
   const GridGeometry& geo0 = level0.geometry();
   const float res0 = static_cast<float>(geo0.resolution);
+  const std::vector<float>& uv = level0.centroidSums();
+  const std::uint32_t* count0 = level0.counts().data();
+  // Level 0's sums of cell i.
+  const auto sums0 = [&](size_t i) {
+    return Eigen::Vector3f(uv[2 * i], uv[2 * i + 1], static_cast<float>(count0[i]));
+  };
   for (size_t k = 0; k < n_levels; ++k) {
     FrameLevel& level = levels_[k];
     const GridGeometry& geo = level.grid.geometry();
     const size_t cells = static_cast<size_t>(geo.cellCount());
-    if (k == 0) {
-      const std::vector<float>& uv = level0.centroidSums();
-      sums.resize(cells);
-      for (int r = 0; r < geo.rows; ++r) {
-        for (int c = 0; c < geo.cols; ++c) {
-          const size_t i = static_cast<size_t>(r * geo.cols + c);
-          sums[i] =
-              Eigen::Vector3f(uv[2 * i], uv[2 * i + 1], static_cast<float>(level0.count(r, c)));
-        }
-      }
-    } else {
+    if (k > 0) {
+      // The four children of each cell, added in row-major order as one pass over the finer
+      // level would.
       const GridGeometry& fine = levels_[k - 1].grid.geometry();
       const float half = static_cast<float>(1 << (k - 1));  // a child's side, in level-0 cells
-      pooled.assign(cells, Eigen::Vector3f::Zero());
-      for (int r = 0; r < fine.rows; ++r) {
-        const float dv = static_cast<float>(r % 2) * half;
-        for (int c = 0; c < fine.cols; ++c) {
-          const Eigen::Vector3f& s = sums[static_cast<size_t>(r * fine.cols + c)];
-          const float du = static_cast<float>(c % 2) * half;
-          pooled[static_cast<size_t>((r / 2) * geo.cols + c / 2)] +=
-              Eigen::Vector3f(s.x() + s.z() * du, s.y() + s.z() * dv, s.z());
+      pooled.resize(cells);
+      for (int r = 0; r < geo.rows; ++r) {
+        for (int c = 0; c < geo.cols; ++c) {
+          Eigen::Vector3f p = Eigen::Vector3f::Zero();
+          for (int dr = 0; dr < 2; ++dr) {
+            const int fr = 2 * r + dr;
+            if (fr >= fine.rows) break;
+            const float dv = static_cast<float>(dr) * half;
+            for (int dc = 0; dc < 2; ++dc) {
+              const int fc = 2 * c + dc;
+              if (fc >= fine.cols) break;
+              const size_t j = static_cast<size_t>(fr * fine.cols + fc);
+              const Eigen::Vector3f s = k == 1 ? sums0(j) : sums[j];
+              const float du = static_cast<float>(dc) * half;
+              p += Eigen::Vector3f(s.x() + s.z() * du, s.y() + s.z() * dv, s.z());
+            }
+          }
+          pooled[static_cast<size_t>(r * geo.cols + c)] = p;
         }
       }
       sums.swap(pooled);
     }
     // Filled cells stay at their centres: their heights are interpolated there.
-    level.grid_offsets.assign(cells, Eigen::Vector2f::Zero());
+    level.grid_offsets.resize(cells);
     const float centre = 0.5f * static_cast<float>(1 << k);  // in level-0 cells
-    for (int r = 0; r < geo.rows; ++r) {
-      for (int c = 0; c < geo.cols; ++c) {
-        const size_t i = static_cast<size_t>(r * geo.cols + c);
-        const Eigen::Vector3f& s = sums[i];
-        if (!level.grid.isValid(r, c) || !(s.z() > 0.0f)) continue;
-        level.grid_offsets[i] =
-            Eigen::Vector2f(res0 * (s.x() / s.z() - centre), res0 * (s.y() / s.z() - centre));
-      }
+    const std::uint8_t* valid = level.grid.validMask().data();
+    for (size_t i = 0; i < cells; ++i) {
+      const Eigen::Vector3f s = k == 0 ? sums0(i) : sums[i];
+      level.grid_offsets[i] =
+          valid[i] == 0 || !(s.z() > 0.0f)
+              ? Eigen::Vector2f::Zero()
+              : Eigen::Vector2f(res0 * (s.x() / s.z() - centre), res0 * (s.y() / s.z() - centre));
     }
   }
   times_.gradients_ms += sw.elapsedMs();

@@ -150,6 +150,8 @@ class HeightGrid {
   const std::vector<float>& heights() const { return height_; }
   const std::vector<std::uint8_t>& validMask() const { return valid_; }
   const std::vector<std::uint8_t>& supportMask() const { return support_; }
+  /// Points (or weights) per cell, row-major, as count().
+  const std::vector<std::uint32_t>& counts() const { return count_; }
 
  private:
   int index(int row, int col) const { return row * geometry_.cols + col; }
