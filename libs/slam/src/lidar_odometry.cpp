@@ -58,6 +58,15 @@ constexpr double kMinSearchPoses = 81;
 constexpr double kInitialYawRateSigma = 45.0;
 /// Velocity measurements before the constant-velocity prediction is trusted to reject a scan.
 constexpr size_t kSettledVelocityUpdates = 5;
+/// A velocity variance that falls by more than this factor from one scan to the next had the
+/// velocity measured (a degenerate registration takes a few parts in a thousand off it).
+constexpr double kMeasuredVarianceDrop = 2.0;
+/// A search's velocity change smooths the run before it only when larger than this many steps
+/// of the search's grid (backfillRun()).
+constexpr double kBackfillSteps = 2.0;
+/// Longest run of scans that a search's velocity smooths (OdometryStep::backfill): a minute at
+/// 10 Hz.
+constexpr size_t kMaxUnobservedRun = 600;
 
 /// The planar part (x, y, yaw scaled by `rs`) of a left perturbation of `pose` (the current
 /// scan in the reference, as a registration's covariance has it) as a perturbation in the
@@ -161,6 +170,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   } else if (dt > 0.0) {
     predictMotionCovariance(std::min(dt, 1.0));
   }
+  velocity_prior_ = motion_cov_.bottomRightCorner<3, 3>();
 
   // With the scan map (reference = scan_map) every sweep has two readers, its grid and the map: it
   // is deskewed once, into a buffer kept across scans (applying the motion in both costs more).
@@ -379,6 +389,16 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     previous_points_.clear();
     previous_times_.clear();
   }
+  // The run of scans whose motion was only predicted along some direction (degenerate, rejected
+  // or empty), which a later search's velocity smooths (backfillRun()); any other scan, the
+  // search's included, ends it.
+  if (frames_ > 0 && dt > 0.0 && dt < 1.0 && !step.searched &&
+      (!step.registered || step.rejected || step.registration.degenerate)) {
+    unobserved_run_.push_back(UnobservedInterval{dt, pose.linear(), velocity_prior_});
+    if (unobserved_run_.size() > kMaxUnobservedRun) unobserved_run_.pop_front();
+  } else {
+    unobserved_run_.clear();
+  }
   before_last_pose_ = last_pose_;
   before_last_time_ = last_time_;
   last_pose_ = pose;
@@ -587,6 +607,7 @@ Eigen::Isometry3d LidarOdometry::searchUnobserved(const Eigen::Isometry3d& first
       aligner_.align(reference_->frame(), current_, to_reference * onGround(found, step));
   step.times.registration.solve_ms += r.times.solve_ms;
   step.searched = true;
+  backfillRun(axes, spacings, best, dt, step);
   step.search_motion = logSE3(moved(best)) / dt;
   step.registration = r;
   // The search measured the searched directions to within its spacing: the covariance says so
@@ -607,6 +628,46 @@ Eigen::Isometry3d LidarOdometry::searchUnobserved(const Eigen::Isometry3d& first
   motion_cov_ = k6 * motion_cov_ * k6.transpose();
   motion_cov_.bottomRightCorner<3, 3>() += searched / (dt * dt);
   return reference_->pose() * r.pose;
+}
+
+void LidarOdometry::backfillRun(const std::vector<Eigen::Vector3d>& axes,
+                                const std::vector<double>& spacings, const Eigen::Vector3d& found,
+                                double dt, OdometryStep& step) const {
+  if (unobserved_run_.empty() || !(dt > 0.0)) return;
+  const size_t n = unobserved_run_.size();
+  // Per axis, the share of the velocity change that each interval of the run takes: the
+  // velocity's variance along the axis then over its variance now (for a random walk, the
+  // covariance of the two over the variance of the later). An interval after which the variance
+  // fell had the velocity measured along the axis: it and those before it keep theirs.
+  std::vector<Eigen::Vector3d> shift(n, Eigen::Vector3d::Zero());  // vehicle frame, metres
+  for (size_t k = 0; k < axes.size(); ++k) {
+    const Eigen::Vector3d& a = axes[k];
+    const double now = a.dot(velocity_prior_ * a);
+    const double moved = a.dot(found);
+    // The search measures to within its grid's spacing: a change of a step or two is what its
+    // quantisation alone can make, and spread over a long run it would move every scan of it
+    // (an open road's 66 scans between poles, 1.5 % too fast, were made 4.6 % too slow by a
+    // one-step change). Only a change the grid resolves is smoothed into the run.
+    if (!(now > 0.0) || !(std::abs(moved) > kBackfillSteps * spacings[k])) continue;
+    double later = now;
+    for (size_t i = n; i-- > 0;) {
+      const UnobservedInterval& u = unobserved_run_[i];
+      const double var = a.dot(u.velocity_cov * a);
+      if (var > kMeasuredVarianceDrop * later) break;
+      later = var;
+      const double w = std::clamp(var / now, 0.0, 1.0);
+      shift[i] += w * moved * (u.dt / dt) * a;
+    }
+  }
+  if (std::all_of(shift.begin(), shift.end(), [](const Eigen::Vector3d& v) { return v.isZero(); }))
+    return;
+  step.backfill.resize(n);
+  Eigen::Vector3d total = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < n; ++i) {
+    // Planar twist coordinates: x and y are metres; the axes hold no rotation.
+    total += unobserved_run_[i].rotation * Eigen::Vector3d(shift[i].x(), shift[i].y(), 0.0);
+    step.backfill[i] = total;
+  }
 }
 
 void LidarOdometry::predictMotionCovariance(double dt) {

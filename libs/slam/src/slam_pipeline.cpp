@@ -28,6 +28,9 @@ void SlamPipeline::process(double time, const PointCloud& points,
                            const std::vector<float>& point_times) {
   Stopwatch total;
   const OdometryStep step = odometry_.process(time, points, point_times);
+  applyBackfill(step);
+  Eigen::Isometry3d pose = step.pose;
+  pose.translation() += odometry_shift_;
   ++counters_.frames;
   if (!step.registered && counters_.frames > 1) ++counters_.empty_frames;
   if (step.registered && step.registration.degenerate) ++counters_.degenerate_frames;
@@ -51,8 +54,8 @@ void SlamPipeline::process(double time, const PointCloud& points,
       break;
   }
   if (step.sweep_period > 0.0) counters_.sweep_period = step.sweep_period;
-  travelled_ += (last_odometry_.inverse() * step.pose).translation().norm();
-  last_odometry_ = step.pose;
+  travelled_ += (last_odometry_.inverse() * pose).translation().norm();
+  last_odometry_ = pose;
 
   if (!step.first_keyframe_cloud.empty() && !map_.keyframes.empty()) {
     Keyframe& first = map_.keyframes.front();
@@ -61,7 +64,7 @@ void SlamPipeline::process(double time, const PointCloud& points,
     spillOldKeyframes();
   }
   Stopwatch loop_watch;
-  if (step.new_keyframe || map_.keyframes.empty()) addKeyframe(time, step);
+  if (step.new_keyframe || map_.keyframes.empty()) addKeyframe(time, step, pose);
   const double loop_ms = loop_watch.elapsedMs();
   // Timed with this scan (total), as the cache misses it saves the next one would have been.
   if (step.new_keyframe) odometry_.warmCaches();
@@ -69,8 +72,8 @@ void SlamPipeline::process(double time, const PointCloud& points,
   FramePose f;
   f.time = time;
   f.keyframe = static_cast<int>(map_.keyframes.size()) - 1;
-  f.relative = kf_odometry_.back().inverse() * step.pose;
-  f.odometry = step.pose;
+  f.relative = kf_odometry_.back().inverse() * pose;
+  f.odometry = pose;
   f.degenerate = step.registered && step.registration.degenerate;
   f.rms_height_error = step.registration.rms_height_error;
   map_.frames.push_back(f);
@@ -125,17 +128,52 @@ double unexplainedGrowthKbPerFrame(const std::vector<MemorySample>& samples) {
   return d > 0.0 ? (n * sxy - sx * sy) / d : 0.0;
 }
 
-void SlamPipeline::addKeyframe(double time, const OdometryStep& step) {
+void SlamPipeline::applyBackfill(const OdometryStep& step) {
+  const size_t n = std::min(step.backfill.size(), map_.frames.size());
+  if (n == 0) return;
+  const size_t first = map_.frames.size() - n;
+  const size_t skipped = step.backfill.size() - n;
+  // The keyframes among the moved scans: their odometry poses move with them, and their map
+  // poses by the same motion in their own frame (which keeps what loop closures did to them).
+  for (size_t i = 0; i < n; ++i) {
+    FramePose& f = map_.frames[first + i];
+    f.odometry.translation() += step.backfill[skipped + i];
+  }
+  for (size_t k = 0; k < map_.keyframes.size(); ++k) {
+    Keyframe& kf = map_.keyframes[k];
+    if (kf.frame < static_cast<int>(first)) continue;
+    const Eigen::Isometry3d moved = map_.frames[static_cast<size_t>(kf.frame)].odometry;
+    kf.pose = kf.pose * (kf_odometry_[k].inverse() * moved);
+    kf_odometry_[k] = moved;
+  }
+  // Odometry edges that end at a moved keyframe carry the moved motion.
+  for (PoseEdge& e : map_.edges) {
+    if (e.loop || map_.keyframes[static_cast<size_t>(e.to)].frame < static_cast<int>(first))
+      continue;
+    e.relative = kf_odometry_[static_cast<size_t>(e.from)].inverse() *
+                 kf_odometry_[static_cast<size_t>(e.to)];
+  }
+  for (size_t i = first; i < map_.frames.size(); ++i) {
+    FramePose& f = map_.frames[i];
+    f.relative = kf_odometry_[static_cast<size_t>(f.keyframe)].inverse() * f.odometry;
+  }
+  odometry_shift_ += step.backfill.back();
+  last_odometry_ = map_.frames.back().odometry;
+  counters_.backfilled_frames += n;
+}
+
+void SlamPipeline::addKeyframe(double time, const OdometryStep& step,
+                               const Eigen::Isometry3d& pose) {
   Keyframe k;
   k.id = static_cast<int>(map_.keyframes.size());
   k.frame = static_cast<int>(map_.frames.size());
   k.time = time;
   k.cloud = step.keyframe_cloud;
   if (k.id == 0) {
-    k.pose = step.pose;
+    k.pose = pose;
   } else {
     // Chain from the previous keyframe's (possibly optimised) pose with the odometry motion.
-    const Eigen::Isometry3d relative = kf_odometry_.back().inverse() * step.pose;
+    const Eigen::Isometry3d relative = kf_odometry_.back().inverse() * pose;
     k.pose = map_.keyframes.back().pose * relative;
     PoseEdge e;
     e.from = k.id - 1;
@@ -148,7 +186,7 @@ void SlamPipeline::addKeyframe(double time, const OdometryStep& step) {
   }
   map_.keyframes.push_back(std::move(k));
   spillOldKeyframes();
-  kf_odometry_.push_back(step.pose);
+  kf_odometry_.push_back(pose);
   path_length_.push_back(travelled_);
   if (params_.loop.enabled != 0) searchLoops(static_cast<int>(map_.keyframes.size()) - 1);
 }

@@ -139,7 +139,9 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
                                         {"prediction_kept", c.prediction_kept_frames}};
   // Degenerate registrations along whose unobserved direction the prediction was uncertain
   // (an unmeasured velocity): searched along it, and those where a start found the pose.
-  report["unobserved_searches"] = {{"frames", c.searched_frames}, {"found", c.search_found_frames}};
+  report["unobserved_searches"] = {{"frames", c.searched_frames},
+                                   {"found", c.search_found_frames},
+                                   {"backfilled_frames", c.backfilled_frames}};
   // How each scan was deskewed: with the input's per-point times, with times estimated from
   // the azimuths (spin start and direction read off the point order, or from the
   // odometry.sweep_* keys), or not at all (deskewing off).

@@ -87,6 +87,18 @@ struct OdometryStep {
   /// With `searched`: the motion since the previous scan that the search found, per second
   /// (body twist), which becomes the velocity.
   Vector6d search_motion = Vector6d::Zero();
+  /// With `searched`: the scans before this one whose motion along the searched directions was
+  /// only predicted (a run of degenerate, rejected or empty scans), smoothed with the velocity the
+  /// search found. Translations (odometry frame, metres) to add to the positions of the last
+  /// backfill.size() scans before this one, oldest first; this scan and every later one move by
+  /// backfill.back() (`pose` is not moved: it is relative to the previous scan as returned).
+  /// The velocity along a direction that no scan observed follows a random walk (the filter's
+  /// acceleration limits), so a velocity measured at the end of the run changes the run's
+  /// velocities in proportion to the variance each had: all of it where the velocity was never
+  /// measured (a drive that starts at speed on an open road, predicted at rest until a pole
+  /// comes into view), a growing share after a velocity measured before the run. Empty
+  /// otherwise.
+  std::vector<Eigen::Vector3d> backfill;
   /// z, roll and pitch of `pose` were measured from the scan's ground (odometry.levelling);
   /// otherwise they are the prediction's.
   bool levelled = false;
@@ -244,6 +256,23 @@ class LidarOdometry {
   std::vector<float> previous_times_;
   Vector6d previous_velocity_ = Vector6d::Zero();
   HeightFrame previous_frame_;  ///< built from them when a search needs it, memory reused
+  /// A scan interval whose motion along some direction was only predicted: its length, the
+  /// orientation at its end (odometry frame) and the velocity's prior covariance over it (as
+  /// motion_cov_'s velocity block).
+  struct UnobservedInterval {
+    double dt = 0.0;
+    Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+    Eigen::Matrix3d velocity_cov = Eigen::Matrix3d::Zero();
+  };
+  /// The current run of such intervals, up to the previous scan (OdometryStep::backfill).
+  std::deque<UnobservedInterval> unobserved_run_;
+  /// motion_cov_'s velocity block as predicted for the current scan, before its registration.
+  Eigen::Matrix3d velocity_prior_ = Eigen::Matrix3d::Zero();
+  /// Fills step.backfill from unobserved_run_: the velocity along each search axis (unit,
+  /// vehicle frame, planar; the search's grid spacing along it in `spacings`) moved by `found`
+  /// (metres over `dt`, vehicle frame).
+  void backfillRun(const std::vector<Eigen::Vector3d>& axes, const std::vector<double>& spacings,
+                   const Eigen::Vector3d& found, double dt, OdometryStep& step) const;
   /// The first scan as measured: it could not be deskewed (no velocity yet), so it is redone
   /// once the second scan gives a velocity, otherwise the whole local map stays distorted.
   PointCloud first_points_;

@@ -41,6 +41,8 @@ struct PipelineCounters {
   size_t searched_frames = 0;
   /// ... of which one of those starts gave the pose (OdometryStep::searched).
   size_t search_found_frames = 0;
+  /// Scans whose positions a search's velocity moved afterwards (OdometryStep::backfill).
+  size_t backfilled_frames = 0;
   /// Scans whose z, roll and pitch were measured from their ground (OdometryStep::levelled).
   size_t levelled_frames = 0;
   /// Scans by where their per-point times came from (PointTimeSource): measured, estimated
@@ -106,7 +108,11 @@ class SlamPipeline {
                         LoopSearch search = LoopSearch::kLattice);
 
  private:
-  void addKeyframe(double time, const OdometryStep& step);
+  /// `pose`: the step's pose in the smoothed odometry frame (odometry_shift_ applied).
+  void addKeyframe(double time, const OdometryStep& step, const Eigen::Isometry3d& pose);
+  /// Moves the scans before this one, and the keyframes among them, by step.backfill, and
+  /// every later scan with them (odometry_shift_).
+  void applyBackfill(const OdometryStep& step);
   void searchLoops(int newest);
   /// Moves the clouds of all but the newest resident_keyframes keyframes to the spill file.
   void spillOldKeyframes();
@@ -120,6 +126,9 @@ class SlamPipeline {
   std::vector<MemorySample> memory_;
   std::vector<double> path_length_;             ///< metres travelled up to each keyframe
   std::vector<Eigen::Isometry3d> kf_odometry_;  ///< odometry-frame pose of each keyframe
+  /// What the backfills so far moved the odometry frame by (a translation): the pipeline's
+  /// odometry poses are the odometry's moved by it.
+  Eigen::Vector3d odometry_shift_ = Eigen::Vector3d::Zero();
   Eigen::Isometry3d last_odometry_ = Eigen::Isometry3d::Identity();
   double travelled_ = 0.0;
   int last_loop_keyframe_ = -1000;  ///< newest keyframe of the last accepted loop
