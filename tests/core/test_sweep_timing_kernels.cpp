@@ -33,10 +33,9 @@ PointCloud someSweep(size_t n, std::mt19937& rng) {
   return p;
 }
 
-TEST(SweepTimingKernels, Sse2IsScalarBitForBit) {
-#ifndef __SSE2__
-  GTEST_SKIP() << "no SSE2 kernel on this processor";
-#else
+/// Checks a kernel of `lanes` points at a time against the scalar reference, bit for bit.
+template <typename Kernel>
+void expectScalarBitForBit(Kernel kernel, size_t lanes) {
   std::mt19937 rng = test::seeded(21);
   std::vector<size_t> lengths = test::edgeLengths();
   lengths.push_back(4093);
@@ -56,8 +55,8 @@ TEST(SweepTimingKernels, Sse2IsScalarBitForBit) {
                                    ordered};
       std::vector<float> want(n, -7.0f), got(n, -7.0f);
       simd::sweepTimesScalar(clock, p.data(), 0, n, want.data());
-      const size_t k = simd::sweepTimesSse2(clock, p.data(), 0, n, got.data());
-      ASSERT_EQ(k, n - n % 4);
+      const size_t k = kernel(clock, p.data(), 0, n, got.data());
+      ASSERT_EQ(k, n - n % lanes);
       simd::sweepTimesScalar(clock, p.data(), k, n, got.data());
       for (size_t i = 0; i < n; ++i) {
         EXPECT_TRUE(sameBits(got[i], want[i]))
@@ -67,6 +66,22 @@ TEST(SweepTimingKernels, Sse2IsScalarBitForBit) {
     }
   }
   EXPECT_GT(wrapped, 100) << "times from all over the sweep were compared";
+}
+
+TEST(SweepTimingKernels, Sse2IsScalarBitForBit) {
+#ifndef __SSE2__
+  GTEST_SKIP() << "no SSE2 kernel on this processor";
+#else
+  expectScalarBitForBit(simd::sweepTimesSse2, 4);
+#endif
+}
+
+TEST(SweepTimingKernels, Avx2IsScalarBitForBit) {
+#ifndef DLO_SIMD_AVX2_DISPATCH
+  GTEST_SKIP() << "no AVX2 kernel in this build";
+#else
+  if (!simd::hasAvx2()) GTEST_SKIP() << "this processor has no AVX2";
+  expectScalarBitForBit(simd::sweepTimesAvx2, 8);
 #endif
 }
 

@@ -121,6 +121,10 @@ SweepTimingEstimate estimateSweepTimes(const PointCloud& points, const SweepTimi
       ordered ? kTwoPiF / static_cast<float>(points.size()) : 0.0f;  // radians of sweep per point
   const simd::SweepClock clock{start, dir, scale, offset, per_point, ordered};
   size_t i = 0;
+#ifdef DLO_SIMD_AVX2_DISPATCH
+  if (simd::hasAvx2())
+    i = simd::sweepTimesAvx2(clock, points.data(), i, points.size(), times.data());
+#endif
 #ifdef __SSE2__
   i = simd::sweepTimesSse2(clock, points.data(), i, points.size(), times.data());
 #endif

@@ -11,6 +11,7 @@
 #include <cstddef>
 
 #include "dlo/core/point_cloud.h"
+#include "simd/cpu_features.h"
 
 namespace dlo::simd {
 
@@ -41,6 +42,13 @@ size_t sweepTimesScalar(const SweepClock& clock, const Eigen::Vector3f* p, size_
 /// readers drop non-finite points), and the kernel is kept as it was so that results do not
 /// change.
 size_t sweepTimesSse2(const SweepClock& clock, const Eigen::Vector3f* p, size_t from, size_t n,
+                      float* times);
+#endif
+
+#ifdef DLO_SIMD_AVX2_DISPATCH
+/// sweepTimesSse2(), eight points at a time, bit for bit with it (the same operations lane by
+/// lane); only where hasAvx2(). Returns where it stopped (a multiple of 8 after `from`).
+size_t sweepTimesAvx2(const SweepClock& clock, const Eigen::Vector3f* p, size_t from, size_t n,
                       float* times);
 #endif
 
