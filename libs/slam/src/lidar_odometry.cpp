@@ -61,6 +61,9 @@ constexpr size_t kSettledVelocityUpdates = 5;
 /// A velocity variance that falls by more than this factor from one scan to the next had the
 /// velocity measured (a degenerate registration takes a few parts in a thousand off it).
 constexpr double kMeasuredVarianceDrop = 2.0;
+/// The share of its variance now that the velocity had at the start of a run, below which it had
+/// been measured before the run (backfillRun(); never measured: the share is about 1).
+constexpr double kUnmeasuredShare = 0.5;
 /// A search's velocity change smooths the run before it only when larger than this many steps
 /// of the search's grid (backfillRun()).
 constexpr double kBackfillSteps = 2.0;
@@ -637,9 +640,9 @@ void LidarOdometry::backfillRun(const std::vector<Eigen::Vector3d>& axes,
   const size_t n = unobserved_run_.size();
   // Per axis, the share of the velocity change that each interval of the run takes: the
   // velocity's variance along the axis then over its variance now (for a random walk, the
-  // covariance of the two over the variance of the later). An interval after which the variance
-  // fell had the velocity measured along the axis: it and those before it keep theirs.
+  // covariance of the two over the variance of the later).
   std::vector<Eigen::Vector3d> shift(n, Eigen::Vector3d::Zero());  // vehicle frame, metres
+  std::vector<double> var(n);
   for (size_t k = 0; k < axes.size(); ++k) {
     const Eigen::Vector3d& a = axes[k];
     const double now = a.dot(velocity_prior_ * a);
@@ -649,14 +652,21 @@ void LidarOdometry::backfillRun(const std::vector<Eigen::Vector3d>& axes,
     // (an open road's 66 scans between poles, 1.5 % too fast, were made 4.6 % too slow by a
     // one-step change). Only a change the grid resolves is smoothed into the run.
     if (!(now > 0.0) || !(std::abs(moved) > kBackfillSteps * spacings[k])) continue;
-    double later = now;
-    for (size_t i = n; i-- > 0;) {
-      const UnobservedInterval& u = unobserved_run_[i];
-      const double var = a.dot(u.velocity_cov * a);
-      if (var > kMeasuredVarianceDrop * later) break;
-      later = var;
-      const double w = std::clamp(var / now, 0.0, 1.0);
-      shift[i] += w * moved * (u.dt / dt) * a;
+    for (size_t i = 0; i < n; ++i) var[i] = a.dot(unobserved_run_[i].velocity_cov * a);
+    // Only a run along which the velocity had not been measured before: one search is a single
+    // interval's measurement, and where a velocity measured before the run disagrees with it,
+    // the search may be the one that is wrong (on an open road a search that found a minimum
+    // 0.8 m backwards, which the next scans undid, moved the 74 scans before it by 27 m).
+    // Where the velocity was never measured, whatever the search finds is better than the
+    // prior's guess (a drive at speed predicted at rest). A variance that fell by more than
+    // kMeasuredVarianceDrop from one interval to the next had the velocity measured there.
+    bool measured = var.front() < kUnmeasuredShare * now;
+    for (size_t i = 0; i + 1 < n && !measured; ++i)
+      measured = var[i] > kMeasuredVarianceDrop * var[i + 1];
+    if (measured) continue;
+    for (size_t i = 0; i < n; ++i) {
+      const double w = std::clamp(var[i] / now, 0.0, 1.0);
+      shift[i] += w * moved * (unobserved_run_[i].dt / dt) * a;
     }
   }
   if (std::all_of(shift.begin(), shift.end(), [](const Eigen::Vector3d& v) { return v.isZero(); }))
