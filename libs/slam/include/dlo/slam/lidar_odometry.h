@@ -94,10 +94,10 @@ struct OdometryStep {
   /// backfill.back() (`pose` is not moved: it is relative to the previous scan as returned).
   /// The velocity along a direction that no scan observed follows a random walk (the filter's
   /// acceleration limits), so a velocity measured at the end of the run changes the run's
-  /// velocities in proportion to the variance each had: all of it where the velocity was never
-  /// measured (a drive that starts at speed on an open road, predicted at rest until a pole
-  /// comes into view), a growing share after a velocity measured before the run. Empty
-  /// otherwise.
+  /// velocities in proportion to the variance each had. Only where the velocity had never been
+  /// measured along it (a drive that starts at speed on an open road, predicted at rest until a
+  /// pole comes into view; then about all of the change), never to overrule a velocity measured
+  /// before the run on one search's word. Empty otherwise.
   std::vector<Eigen::Vector3d> backfill;
   /// z, roll and pitch of `pose` were measured from the scan's ground (odometry.levelling);
   /// otherwise they are the prediction's.
