@@ -173,7 +173,8 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   } else if (dt > 0.0) {
     predictMotionCovariance(std::min(dt, 1.0));
   }
-  velocity_prior_ = motion_cov_.bottomRightCorner<3, 3>();
+  // The velocity's prior over this interval, before the scan is registered (the run below).
+  const Eigen::Matrix3d velocity_prior = motion_cov_.bottomRightCorner<3, 3>();
 
   // With the scan map (reference = scan_map) every sweep has two readers, its grid and the map: it
   // is deskewed once, into a buffer kept across scans (applying the motion in both costs more).
@@ -397,7 +398,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   // search's included, ends it.
   if (frames_ > 0 && dt > 0.0 && dt < 1.0 && !step.searched &&
       (!step.registered || step.rejected || step.registration.degenerate)) {
-    unobserved_run_.push_back(UnobservedInterval{dt, pose.linear(), velocity_prior_});
+    unobserved_run_.push_back(UnobservedInterval{dt, pose.linear(), velocity_prior});
     if (unobserved_run_.size() > kMaxUnobservedRun) unobserved_run_.pop_front();
   } else {
     unobserved_run_.clear();
@@ -636,8 +637,10 @@ Eigen::Isometry3d LidarOdometry::searchUnobserved(const Eigen::Isometry3d& first
 void LidarOdometry::backfillRun(const std::vector<Eigen::Vector3d>& axes,
                                 const std::vector<double>& spacings, const Eigen::Vector3d& found,
                                 double dt, OdometryStep& step) const {
-  if (unobserved_run_.empty() || !(dt > 0.0)) return;
+  if (unobserved_run_.empty()) return;
   const size_t n = unobserved_run_.size();
+  // The velocity's prior over this interval: the search runs before the scan updates it.
+  const Eigen::Matrix3d velocity_prior = motion_cov_.bottomRightCorner<3, 3>();
   // Per axis, the share of the velocity change that each interval of the run takes: the
   // velocity's variance along the axis then over its variance now (for a random walk, the
   // covariance of the two over the variance of the later).
@@ -645,7 +648,7 @@ void LidarOdometry::backfillRun(const std::vector<Eigen::Vector3d>& axes,
   std::vector<double> var(n);
   for (size_t k = 0; k < axes.size(); ++k) {
     const Eigen::Vector3d& a = axes[k];
-    const double now = a.dot(velocity_prior_ * a);
+    const double now = a.dot(velocity_prior * a);
     const double moved = a.dot(found);
     // The search measures to within its grid's spacing: a change of a step or two is what its
     // quantisation alone can make, and spread over a long run it would move every scan of it

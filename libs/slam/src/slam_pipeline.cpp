@@ -139,9 +139,9 @@ void SlamPipeline::applyBackfill(const OdometryStep& step) {
     FramePose& f = map_.frames[first + i];
     f.odometry.translation() += step.backfill[skipped + i];
   }
-  for (size_t k = 0; k < map_.keyframes.size(); ++k) {
+  for (size_t k = map_.keyframes.size(); k-- > 0;) {  // the newest ones, back to the run's start
     Keyframe& kf = map_.keyframes[k];
-    if (kf.frame < static_cast<int>(first)) continue;
+    if (kf.frame < static_cast<int>(first)) break;
     const Eigen::Isometry3d moved = map_.frames[static_cast<size_t>(kf.frame)].odometry;
     kf.pose = kf.pose * (kf_odometry_[k].inverse() * moved);
     kf_odometry_[k] = moved;

@@ -266,11 +266,10 @@ class LidarOdometry {
   };
   /// The current run of such intervals, up to the previous scan (OdometryStep::backfill).
   std::deque<UnobservedInterval> unobserved_run_;
-  /// motion_cov_'s velocity block as predicted for the current scan, before its registration.
-  Eigen::Matrix3d velocity_prior_ = Eigen::Matrix3d::Zero();
   /// Fills step.backfill from unobserved_run_: the velocity along each search axis (unit,
   /// vehicle frame, planar; the search's grid spacing along it in `spacings`) moved by `found`
-  /// (metres over `dt`, vehicle frame).
+  /// (metres over `dt`, vehicle frame). Called by searchUnobserved() before the scan updates
+  /// motion_cov_, whose velocity block is then the prior over this interval.
   void backfillRun(const std::vector<Eigen::Vector3d>& axes, const std::vector<double>& spacings,
                    const Eigen::Vector3d& found, double dt, OdometryStep& step) const;
   /// The first scan as measured: it could not be deskewed (no velocity yet), so it is redone
