@@ -27,8 +27,9 @@ std::vector<MethodSpec> makeMethods() {
                      [] { return std::make_unique<DloFrameToFrame>(); }});
   const SlamParams full;
   char reference[96];
-  std::snprintf(reference, sizeof reference, "local map of %d keyframes, loop closure",
-                full.odometry.local_map_keyframes);
+  std::snprintf(reference, sizeof reference,
+                "local map of up to %d keyframes within %g m, loop closure",
+                full.odometry.local_map_keyframes, full.odometry.local_map_extent);
   methods.push_back(
       {"dlo", describeDlo(full, reference), false, [] { return std::make_unique<DloPipeline>(); }});
   methods.push_back({"icp",

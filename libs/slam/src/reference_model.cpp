@@ -38,6 +38,11 @@ void PreviousScanReference::afterScan(HeightFrame& current, const PointCloud&,
 void KeyframeMapReference::addKeyframe(const Eigen::Isometry3d& pose, WeightedCloud fine) {
   recent_.push_back(Keyframe{pose, std::move(fine)});
   while (recent_.size() > keyframes_) recent_.pop_front();
+  const double extent = params_.odometry.local_map_extent;
+  while (extent > 0.0 && recent_.size() > 1 &&
+         (recent_.front().pose.translation() - pose.translation()).norm() > extent) {
+    recent_.pop_front();
+  }
   rebuild();
 }
 

@@ -39,7 +39,14 @@ std::vector<ParamField<SlamParams>> fields() {
                  "height from every range; false: grid.max_z as set (the sparse profile)",
                  booleanNames()),
       paramField("odometry", "local_map_keyframes", &S::odometry, &O::local_map_keyframes,
-                 "keyframes fused into the local map (reference = keyframe_map)"),
+                 "the most recent keyframes fused into the local map (reference = "
+                 "keyframe_map), at most; more of them dilute the pattern of rings that travels "
+                 "with the sensor, which keyframes taken close together (turning on the spot) "
+                 "share"),
+      paramField("odometry", "local_map_extent", &S::odometry, &O::local_map_extent,
+                 "metres; a keyframe farther than this from the newest one leaves the local map "
+                 "(reference = keyframe_map) even before local_map_keyframes newer ones replace "
+                 "it: older keyframes carry more of the odometry's drift; 0: no limit"),
       paramField("odometry", "local_map_scans", &S::odometry, &O::local_map_scans,
                  "registered scans in the local height map (reference = scan_map)"),
       paramField("odometry", "local_map_spacing", &S::odometry, &O::local_map_spacing,

@@ -14,6 +14,8 @@ std::string SlamParams::validate() const {
                       "previous, keyframe, keyframe_map or scan_map");
   if (o.local_map_keyframes < 1 || o.local_map_keyframes > 50)
     return outOfRange("odometry.local_map_keyframes", o.local_map_keyframes, "1..50");
+  if (!(o.local_map_extent >= 0.0 && o.local_map_extent <= 1000.0))
+    return outOfRange("odometry.local_map_extent", o.local_map_extent, "0..1000");
   if (o.local_map_scans < 1 || o.local_map_scans > 100)
     return outOfRange("odometry.local_map_scans", o.local_map_scans, "1..100");
   if (!(o.local_map_spacing >= 0.0 && o.local_map_spacing <= 10.0))

@@ -39,7 +39,16 @@ struct OdometryParams {
   /// heights, as the map it reads does. Off in the sparse profile (config/sensors/sparse.ini):
   /// sparse sensors look up 10-15 deg and see walls whole from most ranges.
   bool visibility_ceiling = true;
-  int local_map_keyframes = 4;  ///< keyframes fused into the local map (reference = keyframe_map)
+  /// Keyframes fused into the local map (reference = keyframe_map), at most. Each keyframe's
+  /// pattern of rings travels with the sensor and pulls a scan towards where that keyframe was
+  /// taken; keyframes taken close together (by angle, turning on the spot) add such patterns at
+  /// nearly one place, and more of them dilute each one.
+  int local_map_keyframes = 8;
+  /// Metres: a keyframe farther than this from the newest one leaves the local map (reference =
+  /// keyframe_map) before local_map_keyframes newer ones replace it: older keyframes carry
+  /// more of the odometry's drift, worst along what the scans could not observe (an open
+  /// road's length). 0: no limit.
+  double local_map_extent = 12.0;
   /// Registered scans in the local height map (reference = scan_map). Fewer scans let a wrongly
   /// placed one leave the map sooner; enough of them cover the ground between a sparse
   /// sensor's rings (measurements: docs/benchmarks.md).
