@@ -88,8 +88,9 @@ class PreviousScanReference : public ReferenceModel {
 };
 
 /// odometry.reference = keyframe (the last keyframe) or keyframe_map (the last
-/// odometry.local_map_keyframes keyframes fused in one grid, anchored at the newest): the
-/// reference changes only with a keyframe.
+/// odometry.local_map_keyframes keyframes, none farther than odometry.local_map_extent from the
+/// newest, fused in one grid anchored at the newest): the reference changes only with a
+/// keyframe.
 class KeyframeMapReference : public ReferenceModel {
  public:
   /// `keyframes`: how many recent keyframes make the reference (1: the last keyframe).
