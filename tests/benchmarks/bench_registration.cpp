@@ -14,6 +14,7 @@
 #include "dlo/core/dlo_params.h"
 #include "dlo/core/height_frame.h"
 #include "dlo/core/sweep_timing.h"
+#include "dlo/core/weighted_cloud.h"
 #include "dlo/formats/kitti_bin.h"
 #include "dlo/slam/lidar_odometry.h"
 
@@ -47,6 +48,21 @@ dlo::DloParams paramsFor(int dof) {
   dlo::DloParams p;
   p.solver.dof = dof;
   return p;
+}
+
+/// A keyframe's decimation: the whole real HDL-64 scan (124,668 points) into 0.1 m voxels
+/// (odometry.keyframe_voxel), then those into 0.2 m voxels (odometry.map_voxel).
+void BM_KeyframeVoxels(benchmark::State& state) {
+  const dlo::PointCloud scan =
+      dlo::loadKittiBin(std::string(DLO_SHARED_DATA_DIR) + "/kitti_00_000000.bin.gz");
+  size_t voxels = 0;
+  for (auto _ : state) {
+    const dlo::WeightedCloud fine = dlo::voxelise(scan, 0.1);
+    const dlo::WeightedCloud coarse = dlo::voxelise(fine, 0.2);
+    voxels = fine.size();
+    benchmark::DoNotOptimize(coarse.data());
+  }
+  state.counters["voxels"] = static_cast<double>(voxels);
 }
 
 /// Per-point times from the azimuths of the whole real HDL-64 scan (124,668 points), what a
@@ -264,6 +280,7 @@ BENCHMARK(BM_GaussNewtonIteration)->Arg(3)->Arg(6)->Unit(benchmark::kMillisecond
 BENCHMARK(BM_OdometryStep)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RasteriseFinestGrid)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EstimateSweepTimes)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_KeyframeVoxels)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PyramidAndHoleFilling)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Gradients)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Selection)->Unit(benchmark::kMillisecond);

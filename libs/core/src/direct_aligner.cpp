@@ -413,10 +413,21 @@ AlignmentResult alignImpl(const SolverParams& p, const HeightFrame& reference,
     const Eigen::Matrix3f R = T.linear().cast<float>();
     const Eigen::Vector3f t = T.translation().cast<float>();
     for (int level = levels - 2; level >= 0; --level) {
-      const HeightSampler& sampler = reference.levels()[level].sampler;
+      const FrameLevel& ref = reference.levels()[level];
+      // placed() reads the reference's centroid offsets around the same places.
+      const Eigen::Vector2f* offsets = ref.grid_offsets.empty() ? nullptr : ref.grid_offsets.data();
+      const GridGeometry& geo = ref.grid.geometry();
+      const double inv_res = 1.0 / geo.resolution;
       for (const SelectedCell& c : current.levels()[level].cells) {
         const Eigen::Vector3f q = cellInReference(c, R, t);
-        sampler.prefetch(q.x(), q.y());
+        ref.sampler.prefetch(q.x(), q.y());
+        if (offsets == nullptr) continue;
+        const int col = static_cast<int>(std::floor((q.x() - geo.x_min) * inv_res - 0.5));
+        const int row = static_cast<int>(std::floor((q.y() - geo.y_min) * inv_res - 0.5));
+        if (row < 0 || col < 0 || row + 1 >= geo.rows || col + 1 >= geo.cols) continue;
+        const Eigen::Vector2f* o = offsets + static_cast<size_t>(row * geo.cols + col);
+        __builtin_prefetch(o);
+        __builtin_prefetch(o + geo.cols);
       }
     }
   }

@@ -50,24 +50,31 @@ class detail::VoxelHash {
   /// Asks for the cache line of `key`'s home slot, for an add() a few points later.
   void prefetch(std::uint64_t key) const { __builtin_prefetch(slots_.data() + slotOf(key)); }
 
-  void add(std::uint64_t key, const Eigen::Vector3f& sum, std::uint32_t n) {
+  /// Adds to `key`'s voxel; returns the voxel's index, for addTo().
+  std::uint32_t add(std::uint64_t key, const Eigen::Vector3f& sum, std::uint32_t n) {
     size_t i = slotOf(key);
     for (;;) {
       const std::uint32_t slot = slots_[i];
       if (slot == kEmpty) {
-        slots_[i] = static_cast<std::uint32_t>(sums_.size());
+        const auto added = static_cast<std::uint32_t>(sums_.size());
+        slots_[i] = added;
         keys_.push_back(key);
         sums_.push_back(Accum{sum, n});
         if (2 * sums_.size() > slots_.size()) grow();
-        return;
+        return added;
       }
       if (keys_[slot] == key) {
-        sums_[slot].sum += sum;
-        sums_[slot].n += n;
-        return;
+        addTo(slot, sum, n);
+        return slot;
       }
       i = (i + 1) & mask_;
     }
+  }
+
+  /// Adds to the voxel that add() returned, without looking it up again.
+  void addTo(std::uint32_t voxel, const Eigen::Vector3f& sum, std::uint32_t n) {
+    sums_[voxel].sum += sum;
+    sums_[voxel].n += n;
   }
 
   WeightedCloud result() const {
@@ -120,6 +127,9 @@ template <typename Point, typename Position, typename Weight>
 void addBatched(VoxelAccumulator& acc, const std::vector<Point>& points, float inv,
                 Position position, Weight weight) {
   constexpr size_t kBatch = 16;
+  constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+  std::uint32_t last_voxel = kNone;  // the voxel of the last point added, and its key
+  std::uint64_t last_key = 0;
   std::uint64_t keys[kBatch];
   float x[kBatch], y[kBatch], z[kBatch];
   bool used[kBatch];
@@ -135,12 +145,21 @@ void addBatched(VoxelAccumulator& acc, const std::vector<Point>& points, float i
     }
     voxelKeys(x, y, z, n, inv, keys);
     for (size_t k = 0; k < n; ++k) {
-      if (used[k]) acc.prefetch(keys[k]);
+      if (used[k] && keys[k] != last_key) acc.prefetch(keys[k]);
     }
     for (size_t k = 0; k < n; ++k) {
+      if (!used[k]) continue;
       const Point& q = points[first + k];
       // A weight of 1 multiplies exactly: raw points are summed as they are.
-      if (used[k]) acc.add(keys[k], position(q) * static_cast<float>(weight(q)), weight(q));
+      const Eigen::Vector3f sum = position(q) * static_cast<float>(weight(q));
+      // Points in scan order often share the previous point's voxel (three or four in a row
+      // along a ring at 0.1 m): added to it directly, in the same order, without a lookup.
+      if (last_voxel != kNone && keys[k] == last_key) {
+        acc.addTo(last_voxel, sum, weight(q));
+      } else {
+        last_voxel = acc.add(keys[k], sum, weight(q));
+        last_key = keys[k];
+      }
     }
   }
 }
