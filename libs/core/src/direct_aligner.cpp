@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "dlo/core/height_residual.h"
+#include "simd/place_cells_kernels.h"
 #include "simd/sample_cells_kernels.h"
 
 namespace dlo {
@@ -274,72 +275,24 @@ const std::vector<SelectedCell>& placed(const FrameLevel& ref, const FrameLevel&
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
   const GridGeometry& geo = ref.grid.geometry();
-  const auto offset = [&](int r, int c) {
-    return r < 0 || c < 0 || r >= geo.rows || c >= geo.cols
-               ? Eigen::Vector2f::Zero()
-               : ref.grid_offsets[static_cast<size_t>(r * geo.cols + c)];
-  };
   // Lattice coordinates in floats, from the centre of cell (0, 0): u = (x - x_c) / resolution.
-  const float inv_res = static_cast<float>(1.0 / geo.resolution);
-  const float x_c = static_cast<float>(geo.cellCentreX(0));
-  const float y_c = static_cast<float>(geo.cellCentreY(0));
-  const float limit = 0.5f * static_cast<float>(geo.resolution);
-  // Beyond the lattice every offset is zero; clamped there, floors stay in int range.
-  const float u_max = static_cast<float>(geo.cols + 1), v_max = static_cast<float>(geo.rows + 1);
-  const auto floorInt = [](float x) {
-    const int i = static_cast<int>(x);
-    return i - (x < static_cast<float>(i) ? 1 : 0);
-  };
-  const Eigen::Vector2f* offsets = ref.grid_offsets.data();
-  for (size_t i = 0; i < cur.cells.size(); ++i) {
-    SelectedCell c = cur.cells[i];
-    c.x += cur.cell_offsets[i].x();
-    c.y += cur.cell_offsets[i].y();
-    const Eigen::Vector3f q = R * Eigen::Vector3f(c.x, c.y, c.h) + t;
-    // The reference's cells stand at their centroids, centre + offset: the lattice of centres
-    // deformed by the offsets, interpolated bilinearly. The place p of the regular lattice that
-    // this deformation takes to q, p + offset(p) = q, by Newton's method (the bilinear
-    // interpolant of heights at p is then the deformed lattice's at q).
-    const Eigen::Vector2f target = q.head<2>();
-    Eigen::Vector2f at = warm_start ? Eigen::Vector2f(target - (*warm)[i]) : target;
-    for (int it = 0; it < 4; ++it) {
-      const float u = std::clamp((at.x() - x_c) * inv_res, -2.0f, u_max);
-      const float v = std::clamp((at.y() - y_c) * inv_res, -2.0f, v_max);
-      const int c0 = floorInt(u), r0 = floorInt(v);
-      const float fu = u - static_cast<float>(c0), fv = v - static_cast<float>(r0);
-      Eigen::Vector2f d00, d10, d01, d11;
-      if (r0 >= 0 && c0 >= 0 && r0 + 1 < geo.rows && c0 + 1 < geo.cols) {
-        const Eigen::Vector2f* o = offsets + static_cast<size_t>(r0 * geo.cols + c0);
-        d00 = o[0];
-        d10 = o[1];
-        d01 = o[geo.cols];
-        d11 = o[geo.cols + 1];
-      } else {
-        d00 = offset(r0, c0);
-        d10 = offset(r0, c0 + 1);
-        d01 = offset(r0 + 1, c0);
-        d11 = offset(r0 + 1, c0 + 1);
-      }
-      const Eigen::Vector2f d =
-          (1 - fv) * ((1 - fu) * d00 + fu * d10) + fv * ((1 - fu) * d01 + fu * d11);
-      const Eigen::Vector2f e = at + d - target;
-      if (e.squaredNorm() < 1e-10f) break;
-      Eigen::Matrix2f J = Eigen::Matrix2f::Identity();
-      J.col(0) += ((1 - fv) * (d10 - d00) + fv * (d11 - d01)) * inv_res;
-      J.col(1) += ((1 - fu) * (d01 - d00) + fu * (d11 - d10)) * inv_res;
-      if (J.determinant() < 0.1f) break;  // centroids (nearly) folded over: no inverse
-      Eigen::Vector2f step = J.inverse() * e;
-      if (step.norm() > limit) step *= limit / step.norm();
-      at -= step;
-    }
-    const Eigen::Vector2f d = target - at;
-    if (warm != nullptr) (*warm)[i] = d;
-    // Moved by -d in the reference: by -R^T d in the scan.
-    const Eigen::Vector3f back = R.transpose() * Eigen::Vector3f(d.x(), d.y(), 0.0f);
-    c.x -= back.x();
-    c.y -= back.y();
-    scratch[i] = c;
-  }
+  simd::OffsetLattice lattice;
+  lattice.offsets = ref.grid_offsets.data();
+  lattice.cols = geo.cols;
+  lattice.rows = geo.rows;
+  lattice.inv_res = static_cast<float>(1.0 / geo.resolution);
+  lattice.x_c = static_cast<float>(geo.cellCentreX(0));
+  lattice.y_c = static_cast<float>(geo.cellCentreY(0));
+  lattice.limit = 0.5f * static_cast<float>(geo.resolution);
+  const size_t n = cur.cells.size();
+  Eigen::Vector2f* w = warm != nullptr ? warm->data() : nullptr;
+  size_t k = 0;
+#ifdef __SSE2__
+  k = simd::placeCellsSse2(lattice, cur.cells.data(), cur.cell_offsets.data(), k, n, R, t,
+                           warm_start, w, scratch.data());
+#endif
+  simd::placeCellsScalar(lattice, cur.cells.data(), cur.cell_offsets.data(), k, n, R, t, warm_start,
+                         w, scratch.data());
   return scratch;
 }
 

@@ -1,0 +1,50 @@
+/// \file place_cells_kernels.h
+/// \brief Where the Gauss-Newton iterations (direct_aligner.cpp, placed()) compare each selected
+/// cell with a reference whose cells stand at their points' centroids: the place of the regular
+/// lattice that the reference's centroid offsets take to the cell, by Newton's method,
+/// vectorised beside the scalar reference (internal to dlo_core, not installed).
+///
+/// As in simd/sample_cells_kernels.h: a kernel works on cells [from, n) and returns where it
+/// stopped; the scalar reference does them all. The SSE2 kernel performs the reference's
+/// operations in its order, lane by lane (a lane that has converged keeps its place while the
+/// others iterate), so that its results are the same bit for bit
+/// (tests/core/test_place_cells_kernels.cpp).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+
+#include "dlo/core/cell_selection.h"
+
+namespace dlo::simd {
+
+/// The reference's lattice of centroid offsets, as placeCells*() read it.
+struct OffsetLattice {
+  const Eigen::Vector2f* offsets = nullptr;  ///< rows x cols, row-major: centroid - centre
+  int cols = 0;
+  int rows = 0;
+  float inv_res = 0.0f;  ///< cells per metre
+  float x_c = 0.0f;      ///< centre of cell (0, 0), metres
+  float y_c = 0.0f;
+  float limit = 0.0f;  ///< longest Newton step, metres (half a cell)
+};
+
+/// For k in [from, n): cells[k] moved by cell_offsets[k] (to its centroid), taken into the
+/// reference by (R, t), the place p of the lattice with p + offset(p) = its position solved for
+/// (at most four Newton steps, from its position - warm[k] where `warm_start`, else from its
+/// position), and out[k] = the moved cell less R^T (position - p). warm[k] = position - p where
+/// `warm` is not null. Returns n.
+size_t placeCellsScalar(const OffsetLattice& lattice, const SelectedCell* cells,
+                        const Eigen::Vector2f* cell_offsets, size_t from, size_t n,
+                        const Eigen::Matrix3f& R, const Eigen::Vector3f& t, bool warm_start,
+                        Eigen::Vector2f* warm, SelectedCell* out);
+
+#ifdef __SSE2__
+/// placeCellsScalar(), four cells at a time.
+size_t placeCellsSse2(const OffsetLattice& lattice, const SelectedCell* cells,
+                      const Eigen::Vector2f* cell_offsets, size_t from, size_t n,
+                      const Eigen::Matrix3f& R, const Eigen::Vector3f& t, bool warm_start,
+                      Eigen::Vector2f* warm, SelectedCell* out);
+#endif
+
+}  // namespace dlo::simd
