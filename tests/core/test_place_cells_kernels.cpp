@@ -83,12 +83,8 @@ TEST(PlaceCellsKernels, Sse2IsScalarBitForBit) {
         someCells(g, 300 + extra, rng, cells, own);
         const size_t n = cells.size();
         for (int pose = 0; pose < 2; ++pose) {
-          const Eigen::Matrix3f R =
-              pose == 0 ? Eigen::Matrix3f::Identity()
-                        : Eigen::AngleAxisf(0.05f, Eigen::Vector3f(0.1f, 0.2f, 1.0f).normalized())
-                              .toRotationMatrix();
-          const Eigen::Vector3f t =
-              pose == 0 ? Eigen::Vector3f::Zero() : Eigen::Vector3f(0.13f, -0.07f, 0.02f);
+          const Eigen::Matrix3f R = test::testPose(pose).R;
+          const Eigen::Vector3f t = test::testPose(pose).t;
           for (int mode = 0; mode < 3; ++mode) {
             // 0: no warm output; 1: cold start into a warm output; 2: warm start from it.
             std::uniform_real_distribution<float> w(-0.03f, 0.03f);

@@ -70,12 +70,8 @@ TEST(SampleCellsKernels, Sse2IsScalarBitForBit) {
       const std::vector<SelectedCell> cells = someCells(s.geometry(), 1000 + extra, rng);
       // The identity (q = p exactly) and a pose like a registration's.
       for (int pose = 0; pose < 2; ++pose) {
-        const Eigen::Matrix3f R =
-            pose == 0 ? Eigen::Matrix3f::Identity()
-                      : Eigen::AngleAxisf(0.05f, Eigen::Vector3f(0.1f, 0.2f, 1.0f).normalized())
-                            .toRotationMatrix();
-        const Eigen::Vector3f t =
-            pose == 0 ? Eigen::Vector3f::Zero() : Eigen::Vector3f(0.13f, -0.07f, 0.02f);
+        const Eigen::Matrix3f R = test::testPose(pose).R;
+        const Eigen::Vector3f t = test::testPose(pose).t;
         const size_t n = cells.size();
         std::vector<simd::CellSample> want(n), got(n);
         simd::sampleCellsScalar(s, cells.data(), 0, n, R, t, want.data());

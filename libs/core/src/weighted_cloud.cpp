@@ -145,15 +145,15 @@ void addBatched(VoxelAccumulator& acc, const std::vector<Point>& points, float i
     }
     voxelKeys(x, y, z, n, inv, keys);
     for (size_t k = 0; k < n; ++k) {
-      if (used[k] && keys[k] != last_key) acc.prefetch(keys[k]);
+      if (used[k]) acc.prefetch(keys[k]);
     }
     for (size_t k = 0; k < n; ++k) {
       if (!used[k]) continue;
       const Point& q = points[first + k];
       // A weight of 1 multiplies exactly: raw points are summed as they are.
       const Eigen::Vector3f sum = position(q) * static_cast<float>(weight(q));
-      // Points in scan order often share the previous point's voxel (three or four in a row
-      // along a ring at 0.1 m): added to it directly, in the same order, without a lookup.
+      // Points in scan order often share the previous point's voxel (neighbours along a
+      // ring): added to it directly, in the same order, without a lookup.
       if (last_voxel != kNone && keys[k] == last_key) {
         acc.addTo(last_voxel, sum, weight(q));
       } else {

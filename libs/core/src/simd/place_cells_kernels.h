@@ -29,6 +29,29 @@ struct OffsetLattice {
   float limit = 0.0f;  ///< longest Newton step, metres (half a cell)
 };
 
+/// The offsets of the four cells from (r0, c0) to (r0 + 1, c0 + 1), zero beyond the lattice.
+inline void cornerOffsets(const OffsetLattice& lattice, int r0, int c0, Eigen::Vector2f& d00,
+                          Eigen::Vector2f& d10, Eigen::Vector2f& d01, Eigen::Vector2f& d11) {
+  const int cols = lattice.cols, rows = lattice.rows;
+  if (r0 >= 0 && c0 >= 0 && r0 + 1 < rows && c0 + 1 < cols) {
+    const Eigen::Vector2f* o = lattice.offsets + static_cast<size_t>(r0 * cols + c0);
+    d00 = o[0];
+    d10 = o[1];
+    d01 = o[cols];
+    d11 = o[cols + 1];
+    return;
+  }
+  const auto offset = [&](int r, int c) {
+    return r < 0 || c < 0 || r >= rows || c >= cols
+               ? Eigen::Vector2f::Zero()
+               : lattice.offsets[static_cast<size_t>(r * cols + c)];
+  };
+  d00 = offset(r0, c0);
+  d10 = offset(r0, c0 + 1);
+  d01 = offset(r0 + 1, c0);
+  d11 = offset(r0 + 1, c0 + 1);
+}
+
 /// For k in [from, n): cells[k] moved by cell_offsets[k] (to its centroid), taken into the
 /// reference by (R, t), the place p of the lattice with p + offset(p) = its position solved for
 /// (at most four Newton steps, from its position - warm[k] where `warm_start`, else from its

@@ -11,11 +11,6 @@ size_t placeCellsScalar(const OffsetLattice& lattice, const SelectedCell* cells,
                         const Eigen::Matrix3f& R, const Eigen::Vector3f& t, bool warm_start,
                         Eigen::Vector2f* warm, SelectedCell* out) {
   const int cols = lattice.cols, rows = lattice.rows;
-  const auto offset = [&](int r, int c) {
-    return r < 0 || c < 0 || r >= rows || c >= cols
-               ? Eigen::Vector2f::Zero()
-               : lattice.offsets[static_cast<size_t>(r * cols + c)];
-  };
   const float inv_res = lattice.inv_res, x_c = lattice.x_c, y_c = lattice.y_c;
   // Beyond the lattice every offset is zero; clamped there, floors stay in int range.
   const float u_max = static_cast<float>(cols + 1), v_max = static_cast<float>(rows + 1);
@@ -40,18 +35,7 @@ size_t placeCellsScalar(const OffsetLattice& lattice, const SelectedCell* cells,
       const int c0 = floorInt(u), r0 = floorInt(v);
       const float fu = u - static_cast<float>(c0), fv = v - static_cast<float>(r0);
       Eigen::Vector2f d00, d10, d01, d11;
-      if (r0 >= 0 && c0 >= 0 && r0 + 1 < rows && c0 + 1 < cols) {
-        const Eigen::Vector2f* o = lattice.offsets + static_cast<size_t>(r0 * cols + c0);
-        d00 = o[0];
-        d10 = o[1];
-        d01 = o[cols];
-        d11 = o[cols + 1];
-      } else {
-        d00 = offset(r0, c0);
-        d10 = offset(r0, c0 + 1);
-        d01 = offset(r0 + 1, c0);
-        d11 = offset(r0 + 1, c0 + 1);
-      }
+      cornerOffsets(lattice, r0, c0, d00, d10, d01, d11);
       const Eigen::Vector2f d =
           (1 - fv) * ((1 - fu) * d00 + fu * d10) + fv * ((1 - fu) * d01 + fu * d11);
       const Eigen::Vector2f e = at + d - target;

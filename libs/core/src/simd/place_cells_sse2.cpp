@@ -45,11 +45,6 @@ size_t placeCellsSse2(const OffsetLattice& lattice, const SelectedCell* cells,
                       const Eigen::Matrix3f& R, const Eigen::Vector3f& t, bool warm_start,
                       Eigen::Vector2f* warm, SelectedCell* out) {
   const int cols = lattice.cols, rows = lattice.rows;
-  const Eigen::Vector2f* offsets = lattice.offsets;
-  const auto offset = [&](int r, int c) {
-    return r < 0 || c < 0 || r >= rows || c >= cols ? Eigen::Vector2f::Zero()
-                                                    : offsets[static_cast<size_t>(r * cols + c)];
-  };
   const __m128 inv_res = _mm_set1_ps(lattice.inv_res);
   const __m128 x_c = _mm_set1_ps(lattice.x_c), y_c = _mm_set1_ps(lattice.y_c);
   const __m128 lo = _mm_set1_ps(-2.0f);
@@ -97,20 +92,8 @@ size_t placeCellsSse2(const OffsetLattice& lattice, const SelectedCell* cells,
       alignas(16) float d[8][4] = {};
       for (int j = 0; j < 4; ++j) {
         if (((live >> j) & 1) == 0) continue;
-        const int cc = ci[j], rr = ri[j];
         Eigen::Vector2f d00, d10, d01, d11;
-        if (rr >= 0 && cc >= 0 && rr + 1 < rows && cc + 1 < cols) {
-          const Eigen::Vector2f* o = offsets + static_cast<size_t>(rr * cols + cc);
-          d00 = o[0];
-          d10 = o[1];
-          d01 = o[cols];
-          d11 = o[cols + 1];
-        } else {
-          d00 = offset(rr, cc);
-          d10 = offset(rr, cc + 1);
-          d01 = offset(rr + 1, cc);
-          d11 = offset(rr + 1, cc + 1);
-        }
+        cornerOffsets(lattice, ri[j], ci[j], d00, d10, d01, d11);
         d[0][j] = d00.x();
         d[1][j] = d00.y();
         d[2][j] = d10.x();
