@@ -2,9 +2,14 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <vector>
+
+#include "dlo/core/cell_selection.h"
+#include "dlo/core/grid_geometry.h"
 
 namespace dlo::test {
 
@@ -31,6 +36,18 @@ inline TestPose testPose(int which) {
   return {
       Eigen::AngleAxisf(0.05f, Eigen::Vector3f(0.1f, 0.2f, 1.0f).normalized()).toRotationMatrix(),
       Eigen::Vector3f(0.13f, -0.07f, 0.02f)};
+}
+
+/// Cells the registration kernels must treat like their references at the edges: a NaN, the
+/// centres of the grid's first and last columns, and just inside the last, on the middle row.
+inline std::vector<SelectedCell> edgeCells(const GridGeometry& g) {
+  const float first = static_cast<float>(g.cellCentreX(0)),
+              last = static_cast<float>(g.cellCentreX(g.cols - 1));
+  const float middle = static_cast<float>(g.cellCentreY(g.rows / 2));
+  std::vector<SelectedCell> out;
+  for (float x : {std::numeric_limits<float>::quiet_NaN(), first, last, std::nextafter(last, 0.0f)})
+    out.push_back(SelectedCell{x, middle, 0.5f, false});
+  return out;
 }
 
 /// A generator with a fixed seed per test, so that a failure repeats.

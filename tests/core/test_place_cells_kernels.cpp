@@ -42,12 +42,8 @@ void someCells(const GridGeometry& g, size_t n, std::mt19937& rng, std::vector<S
     cells.push_back(SelectedCell{x(rng), y(rng), h(rng), k % 7 == 0});
     own.emplace_back(o(rng), o(rng));
   }
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  const float first = static_cast<float>(g.cellCentreX(0)),
-              last = static_cast<float>(g.cellCentreX(g.cols - 1));
-  const float middle = static_cast<float>(g.cellCentreY(g.rows / 2));
-  for (float special : {nan, first, last, std::nextafter(last, 0.0f)}) {
-    cells.push_back(SelectedCell{special, middle, 0.5f, false});
+  for (const SelectedCell& c : test::edgeCells(g)) {
+    cells.push_back(c);
     own.emplace_back(0.0f, 0.0f);
   }
 }

@@ -46,13 +46,7 @@ std::vector<SelectedCell> someCells(const GridGeometry& g, size_t n, std::mt1993
   std::uniform_real_distribution<float> h(-1.0f, 3.0f);
   std::vector<SelectedCell> cells;
   for (size_t k = 0; k < n; ++k) cells.push_back(SelectedCell{x(rng), y(rng), h(rng), false});
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  const float first = static_cast<float>(g.cellCentreX(0)),
-              last = static_cast<float>(g.cellCentreX(g.cols - 1));
-  const float middle = static_cast<float>(g.cellCentreY(g.rows / 2));
-  for (float special : {nan, first, last, std::nextafter(last, 0.0f)}) {
-    cells.push_back(SelectedCell{special, middle, 0.5f, false});
-  }
+  for (const SelectedCell& c : test::edgeCells(g)) cells.push_back(c);
   return cells;
 }
 

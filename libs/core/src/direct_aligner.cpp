@@ -271,7 +271,7 @@ const std::vector<SelectedCell>& placed(const FrameLevel& ref, const FrameLevel&
   // Gauss-Newton iteration to the next, so that they start Newton's method where it nearly
   // ends (one evaluation instead of three or four).
   const bool warm_start = warm != nullptr && warm->size() == cur.cells.size();
-  if (warm != nullptr && !warm_start) warm->assign(cur.cells.size(), Eigen::Vector2f::Zero());
+  if (warm != nullptr && !warm_start) warm->resize(cur.cells.size());  // written, not read
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
   const GridGeometry& geo = ref.grid.geometry();

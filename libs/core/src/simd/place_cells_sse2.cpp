@@ -8,6 +8,8 @@
 #ifdef __SSE2__
 #include <emmintrin.h>
 
+#include "simd/pose_sse2.h"
+
 namespace dlo::simd {
 
 namespace {
@@ -54,12 +56,7 @@ size_t placeCellsSse2(const OffsetLattice& lattice, const SelectedCell* cells,
   const __m128 tiny = _mm_set1_ps(1e-10f), fold = _mm_set1_ps(0.1f);
   const __m128 limit = _mm_set1_ps(lattice.limit);
   const __m128 all = _mm_castsi128_ps(_mm_set1_epi32(-1));
-  // Rows of R, and of R^T, summed as Eigen sums a fixed-size product: r0 x + (r1 y + r2 z).
-  __m128 r[3][3], tv[3];
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) r[i][j] = _mm_set1_ps(R(i, j));
-    tv[i] = _mm_set1_ps(t(i));
-  }
+  const PoseSse2 pose(R, t);
   size_t k = from;
   for (; k + 4 <= n; k += 4) {
     const SelectedCell* c = cells + k;
@@ -69,8 +66,7 @@ size_t placeCellsSse2(const OffsetLattice& lattice, const SelectedCell* cells,
     const __m128 y = add(_mm_setr_ps(c[0].y, c[1].y, c[2].y, c[3].y),
                          _mm_setr_ps(co[0].y(), co[1].y(), co[2].y(), co[3].y()));
     const __m128 h = _mm_setr_ps(c[0].h, c[1].h, c[2].h, c[3].h);
-    const __m128 tx = add(add(mul(r[0][0], x), add(mul(r[0][1], y), mul(r[0][2], h))), tv[0]);
-    const __m128 ty = add(add(mul(r[1][0], x), add(mul(r[1][1], y), mul(r[1][2], h))), tv[1]);
+    const __m128 tx = pose.apply(0, x, y, h), ty = pose.apply(1, x, y, h);
     __m128 ax = tx, ay = ty;
     if (warm_start) {
       const Eigen::Vector2f* w = warm + k;
@@ -143,8 +139,8 @@ size_t placeCellsSse2(const OffsetLattice& lattice, const SelectedCell* cells,
     }
     const __m128 dx = sub(tx, ax), dy = sub(ty, ay);
     // Moved by -d in the reference: by -R^T d in the scan.
-    const __m128 bx = add(mul(r[0][0], dx), add(mul(r[1][0], dy), mul(r[2][0], zero)));
-    const __m128 by = add(mul(r[0][1], dx), add(mul(r[1][1], dy), mul(r[2][1], zero)));
+    const __m128 bx = pose.applyTransposed(0, dx, dy, zero);
+    const __m128 by = pose.applyTransposed(1, dx, dy, zero);
     alignas(16) float ds[2][4], ps[2][4];
     _mm_store_ps(ds[0], dx);
     _mm_store_ps(ds[1], dy);

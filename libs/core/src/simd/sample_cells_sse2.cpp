@@ -5,6 +5,8 @@
 #ifdef __SSE2__
 #include <emmintrin.h>
 
+#include "simd/pose_sse2.h"
+
 namespace dlo::simd {
 
 namespace {
@@ -81,13 +83,7 @@ void sample4(const HeightSampler& sampler, __m128 x, __m128 y, GradientCell out[
 size_t sampleCellsSse2(const HeightSampler& sampler, const SelectedCell* cells, size_t from,
                        size_t n, const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
                        CellSample* out) {
-  // q = R p + t, each row summed as Eigen's fixed-size product sums three terms:
-  // r0 x + (r1 y + r2 h), then + t.
-  __m128 r[3][3], tv[3];
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) r[i][j] = _mm_set1_ps(R(i, j));
-    tv[i] = _mm_set1_ps(t(i));
-  }
+  const PoseSse2 pose(R, t);
   size_t k = from;
   for (; k + 4 <= n; k += 4) {
     const SelectedCell* c = cells + k;
@@ -95,11 +91,7 @@ size_t sampleCellsSse2(const HeightSampler& sampler, const SelectedCell* cells, 
     const __m128 y = _mm_setr_ps(c[0].y, c[1].y, c[2].y, c[3].y);
     const __m128 h = _mm_setr_ps(c[0].h, c[1].h, c[2].h, c[3].h);
     __m128 q[3];
-    for (int i = 0; i < 3; ++i) {
-      q[i] = _mm_add_ps(_mm_add_ps(_mm_mul_ps(r[i][0], x),
-                                   _mm_add_ps(_mm_mul_ps(r[i][1], y), _mm_mul_ps(r[i][2], h))),
-                        tv[i]);
-    }
+    for (int i = 0; i < 3; ++i) q[i] = pose.apply(i, x, y, h);
     GradientCell s[4];
     sample4(sampler, q[0], q[1], s);
     alignas(16) float qs[3][4];
