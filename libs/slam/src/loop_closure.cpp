@@ -16,6 +16,11 @@ constexpr double kDeg = M_PI / 180.0;
 constexpr double kSearchResolution = 0.8;
 constexpr double kSearchOffsets[] = {-4.0, -2.0, 0.0, 2.0, 4.0};
 constexpr double kSearchYaws[] = {-12.0, -6.0, 0.0, 6.0, 12.0};
+/// A lattice search's answer may turn the guess at most this far: its starts reach +-12 deg, and
+/// half a step beyond. An answer farther round left the searched region for an unrelated basin
+/// (seen on simulated HDL-32 drives with keyframe submaps: loops accepted 17-39 deg round, 3 to
+/// 11 m from the truth, where the heading had drifted less than a degree).
+constexpr double kMaxLatticeRotation = 15.0 * kDeg;  // radians
 /// Two coarse results this far apart are different basins.
 constexpr double kDistinctBasin = 1.5;              // metres
 constexpr double kDistinctBasinAngle = 5.0 * kDeg;  // radians
@@ -86,8 +91,8 @@ LoopCandidate LoopCloser::verify(const SlamMap& map, int from_id, int to_id,
   c.to = to_id;
   c.tracked = search == LoopSearch::kFromGuess;
   WeightedCloud from_buffer, to_buffer;
-  const WeightedCloud& from_cloud = map.keyframeCloud(static_cast<size_t>(from_id), from_buffer);
-  const WeightedCloud& to_cloud = map.keyframeCloud(static_cast<size_t>(to_id), to_buffer);
+  const WeightedCloud& from_cloud = submapCloud(map, from_id, from_buffer);
+  const WeightedCloud& to_cloud = submapCloud(map, to_id, to_buffer);
   if (from_cloud.empty() || to_cloud.empty()) {
     c.reason = "empty keyframe cloud";
     return c;
@@ -140,6 +145,26 @@ LoopCandidate LoopCloser::verify(const SlamMap& map, int from_id, int to_id,
   }
   judge(refined, selected, guess, c, edge);
   return c;
+}
+
+const WeightedCloud& LoopCloser::submapCloud(const SlamMap& map, int id,
+                                             WeightedCloud& buffer) const {
+  const int n = params_.loop.submap_keyframes;
+  const int count = static_cast<int>(map.keyframes.size());
+  if (n <= 1) return map.keyframeCloud(static_cast<size_t>(id), buffer);
+  // A window of n keyframes centred on `id`, moved to fit within the drive so far.
+  const int first = std::clamp(id - (n - 1) / 2, 0, std::max(0, count - n));
+  const int last = std::min(count - 1, first + n - 1);
+  buffer.clear();
+  const Eigen::Isometry3d to_id = map.keyframes[static_cast<size_t>(id)].pose.inverse();
+  WeightedCloud read;
+  for (int j = first; j <= last; ++j) {
+    const WeightedCloud& cloud = map.keyframeCloud(static_cast<size_t>(j), read);
+    const Eigen::Isometry3f T = (to_id * map.keyframes[static_cast<size_t>(j)].pose).cast<float>();
+    buffer.reserve(buffer.size() + cloud.size());
+    for (const WeightedPoint& w : cloud) buffer.push_back(WeightedPoint{T * w.p, w.n});
+  }
+  return buffer;
 }
 
 std::vector<Eigen::Isometry3d> LoopCloser::searchBasins(const WeightedCloud& from_cloud,
@@ -220,6 +245,11 @@ void LoopCloser::judge(const std::vector<AlignmentResult>& refined, double selec
     c.reason = describe("inlier fraction", inliers, l.min_inliers);
   } else if (c.correction > l.max_correction) {
     c.reason = describe("correction (m)", c.correction, l.max_correction);
+  } else if (!c.tracked &&
+             Eigen::AngleAxisd((guess.inverse() * r.pose).linear()).angle() > kMaxLatticeRotation) {
+    c.reason = describe("rotation from the guess (deg)",
+                        Eigen::AngleAxisd((guess.inverse() * r.pose).linear()).angle() / kDeg,
+                        kMaxLatticeRotation / kDeg);
   } else if (c.tracked && c.correction > kDistinctBasin) {
     // The guess should have been good: a registration that moved this far may have slipped
     // into another basin, which only the lattice search can tell.

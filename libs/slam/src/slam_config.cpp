@@ -140,6 +140,9 @@ std::vector<ParamField<SlamParams>> fields() {
                  "metres; floor of the standard deviations of graph edges (x, y, z)"),
       paramField("loop", "min_sigma_angle", &S::loop, &L::min_sigma_angle,
                  "degrees; floor of the standard deviations of graph edges (angles)"),
+      paramField("loop", "submap_keyframes", &S::loop, &L::submap_keyframes,
+                 "keyframes put together on each side of a verification (the keyframe and its "
+                 "neighbours along the drive); 1: the keyframe alone"),
   };
   table.insert(table.end(), own.begin(), own.end());
   return table;

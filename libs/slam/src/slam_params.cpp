@@ -82,6 +82,8 @@ std::string SlamParams::validate() const {
     return outOfRange("loop.min_sigma_xy", l.min_sigma_xy, "a positive distance");
   if (!(l.min_sigma_angle > 0.0))
     return outOfRange("loop.min_sigma_angle", l.min_sigma_angle, "a positive angle");
+  if (!(l.submap_keyframes >= 1 && l.submap_keyframes <= 50))
+    return outOfRange("loop.submap_keyframes", l.submap_keyframes, "1 to 50 keyframes");
   return {};
 }
 

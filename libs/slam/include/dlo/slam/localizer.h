@@ -76,10 +76,16 @@ struct LocalizerParams {
   /// height error per selected cell, a cell that found no map counted as an outlier): the best
   /// counts as found when it is believable as tracking believes a scan (min_inliers, well
   /// conditioned), its cost is at most the median place's divided by search_contrast, and
-  /// every other distinct place costs at least ambiguity_ratio times more.
+  /// every other distinct place costs at least ambiguity_ratio times more. The ambiguity ratio
+  /// is what tells a place that is there from one that is not: simulated scans of a town the
+  /// map does not hold find a second place within 1.00-1.11 times the best's cost (VLP-16 and
+  /// HDL-64 alike), scans of the mapped town 1.24-2.3 times. The median place separates the
+  /// sensors more than the towns (the right place costs 1.4-1.9 times less than the median for a
+  /// VLP-16, 2.6-3.5 times for an HDL-64, 1.5-1.7 in the other town for an HDL-64): it only
+  /// refuses scans that fit everywhere alike.
   double search_spacing = 3.0;
   double search_yaw_step_deg = 15.0;
-  double search_contrast = 2.0;
+  double search_contrast = 1.4;
   double ambiguity_ratio = 1.3;
 };
 

@@ -43,6 +43,10 @@ class LoopCloser {
                        PoseEdge& edge, LoopSearch search = LoopSearch::kLattice) const;
 
  private:
+  /// The cloud one side of a verification registers: keyframe `id`'s own (loop.submap_keyframes
+  /// = 1), or that of the keyframes around it put in its frame, in `buffer`. Valid until
+  /// `buffer` or the map changes.
+  const WeightedCloud& submapCloud(const SlamMap& map, int id, WeightedCloud& buffer) const;
   /// The lattice search of LoopSearch::kLattice, on a coarse grid: the best distinct basins
   /// (at most kRefinedBasins, best fit first), to be refined at full resolution; empty if no
   /// start overlapped.

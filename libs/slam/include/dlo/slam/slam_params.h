@@ -143,6 +143,11 @@ struct LoopParams {
   double max_disagreement = 0.15;  ///< metres between two verifications from perturbed guesses
   double min_sigma_xy = 0.05;      ///< metres; floor of edge standard deviations (x, y, z)
   double min_sigma_angle = 0.2;    ///< degrees; floor of edge standard deviations (angles)
+  /// Keyframes whose clouds make each side of a verification: the keyframe and its neighbours
+  /// along the drive (centred on it where they exist), put in its frame by their poses. 1: the
+  /// keyframe alone. A sparse sensor's keyframes leave the ground between their rings empty, and
+  /// two of them taken metres apart rarely measure the same cells.
+  int submap_keyframes = 1;
 };
 
 /// Everything dlo-slam is configured with.
