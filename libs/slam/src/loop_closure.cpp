@@ -147,14 +147,19 @@ LoopCandidate LoopCloser::verify(const SlamMap& map, int from_id, int to_id,
   return c;
 }
 
+std::pair<int, int> LoopCloser::submapWindow(int count, int id) const {
+  const int n = params_.loop.submap_keyframes;
+  if (n <= 1) return {id, id};
+  const int first = std::clamp(id - (n - 1) / 2, 0, std::max(0, count - n));
+  return {first, std::min(count - 1, first + n - 1)};
+}
+
 const WeightedCloud& LoopCloser::submapCloud(const SlamMap& map, int id,
                                              WeightedCloud& buffer) const {
-  const int n = params_.loop.submap_keyframes;
-  const int count = static_cast<int>(map.keyframes.size());
-  if (n <= 1) return map.keyframeCloud(static_cast<size_t>(id), buffer);
-  // A window of n keyframes centred on `id`, moved to fit within the drive so far.
-  const int first = std::clamp(id - (n - 1) / 2, 0, std::max(0, count - n));
-  const int last = std::min(count - 1, first + n - 1);
+  if (params_.loop.submap_keyframes <= 1) {
+    return map.keyframeCloud(static_cast<size_t>(id), buffer);
+  }
+  const auto [first, last] = submapWindow(static_cast<int>(map.keyframes.size()), id);
   buffer.clear();
   const Eigen::Isometry3d to_id = map.keyframes[static_cast<size_t>(id)].pose.inverse();
   WeightedCloud read;

@@ -143,6 +143,11 @@ std::vector<ParamField<SlamParams>> fields() {
       paramField("loop", "submap_keyframes", &S::loop, &L::submap_keyframes,
                  "keyframes put together on each side of a verification (the keyframe and its "
                  "neighbours along the drive); 1: the keyframe alone"),
+      paramField("loop", "confirm", &S::loop, &L::confirm,
+                 "true: the first loop of a revisit is added only once a later keyframe's "
+                 "search finds a loop in the same basin (within 0.75 m and 2.5 deg); false: one "
+                 "verification suffices",
+                 booleanNames()),
   };
   table.insert(table.end(), own.begin(), own.end());
   return table;

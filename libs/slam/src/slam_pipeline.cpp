@@ -19,6 +19,10 @@ constexpr int kLoopCooldown = 3;
 /// A candidate within this many keyframes of the last accepted loop, on both of its sides, is
 /// the same revisit going on: it is verified from its guess first (LoopSearch::kFromGuess).
 constexpr int kTrackedSpan = 2 * kLoopCooldown;
+/// Two verified loops agree (loop.confirm) when they put the vehicle within half the width of a
+/// lattice basin of each other (the loop closer's basins are 1.5 m and 5 deg apart).
+constexpr double kAgreement = 0.75;             // metres
+constexpr double kAgreementAngle = 2.5 * kDeg;  // radians
 }  // namespace
 
 SlamPipeline::SlamPipeline(const SlamParams& params)
@@ -200,6 +204,8 @@ void SlamPipeline::spillOldKeyframes() {
 }
 
 void SlamPipeline::searchLoops(int newest) {
+  // A loop waiting for confirmation expires once the revisit has gone on without one.
+  if (pending_loop_ && newest - pending_loop_->edge.to > kTrackedSpan) pending_loop_.reset();
   if (newest - last_loop_keyframe_ < kLoopCooldown) return;
   const std::vector<int> candidates = loops_.candidates(map_, newest, path_length_);
   // A place whose lattice search closed nothing is searched again only loop.retry_distance
@@ -228,13 +234,66 @@ void SlamPipeline::searchLoops(int newest) {
       return;
     }
   }
-  if (searched) last_failed_search_ = path_length_[newest];
+  // A loop left waiting is no failed search: the next keyframe searches again to confirm it.
+  const bool waiting = pending_loop_ && pending_loop_->edge.to == newest;
+  if (searched && !waiting) last_failed_search_ = path_length_[newest];
+}
+
+bool SlamPipeline::sameBasin(const PoseEdge& a, const PoseEdge& b) const {
+  const auto pose = [this](int k) { return map_.keyframes[static_cast<size_t>(k)].pose; };
+  const Eigen::Isometry3d implied =
+      pose(b.from).inverse() * pose(a.from) * a.relative * pose(a.to).inverse() * pose(b.to);
+  const Eigen::Isometry3d d = implied.inverse() * b.relative;
+  return d.translation().norm() <= kAgreement &&
+         Eigen::AngleAxisd(d.linear()).angle() <= kAgreementAngle;
 }
 
 LoopCandidate SlamPipeline::tryLoop(int from, int to, const Eigen::Isometry3d& guess,
                                     LoopSearch search) {
   PoseEdge edge;
   LoopCandidate c = loops_.verify(map_, from, to, guess, edge, search);
+  if (c.accepted && search == LoopSearch::kLattice && params_.loop.confirm) {
+    // The first loop of a revisit stands on one verification, and a repetitive street can pass
+    // it in the wrong basin (a simulated HDL-32 lap: 2.5 m along the road, with keyframe
+    // submaps). It is added once a later keyframe's own search agrees with it; one that does not
+    // agree waits in its place.
+    // Independent evidence: no keyframe of either side in common with the waiting loop's (two
+    // loops from the same old keyframe 0.8 s apart agreed, both 2.5 m off).
+    const int count = static_cast<int>(map_.keyframes.size());
+    const std::pair<int, int> from_window = loops_.submapWindow(count, from);
+    const std::pair<int, int> to_window = loops_.submapWindow(count, to);
+    const auto disjoint = [](const std::pair<int, int>& a, const std::pair<int, int>& b) {
+      return a.second < b.first || b.second < a.first;
+    };
+    if (pending_loop_ && (!disjoint(pending_loop_->from_window, from_window) ||
+                          !disjoint(pending_loop_->to_window, to_window))) {
+      // Not independent of the waiting loop: neither confirms nor replaces it.
+      c.accepted = false;
+      c.reason = "awaiting confirmation (shares keyframes with the waiting loop)";
+      map_.loop_candidates.push_back(c);
+      ++counters_.loops_rejected;
+      return c;
+    }
+    const bool confirmed = pending_loop_ &&
+                           std::abs(pending_loop_->edge.from - from) <= kTrackedSpan &&
+                           sameBasin(pending_loop_->edge, edge);
+    if (!confirmed) {
+      c.accepted = false;
+      c.reason = pending_loop_ ? "awaiting confirmation (the loop before disagreed)"
+                               : "awaiting confirmation by a later keyframe's loop";
+      pending_loop_ = PendingLoop{edge, map_.loop_candidates.size(), from_window, to_window};
+      map_.loop_candidates.push_back(c);
+      ++counters_.loops_rejected;
+      return c;
+    }
+    LoopCandidate& first = map_.loop_candidates[pending_loop_->candidate];
+    first.accepted = true;
+    first.reason = "accepted (confirmed by keyframe " + std::to_string(to) + "'s loop)";
+    --counters_.loops_rejected;
+    ++counters_.loops_accepted;
+    map_.edges.push_back(pending_loop_->edge);
+    pending_loop_.reset();
+  }
   map_.loop_candidates.push_back(c);
   if (c.accepted) {
     ++counters_.loops_accepted;

@@ -2,6 +2,7 @@
 /// \brief Loop-closure candidates among keyframes, and their verification by DLO registration.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "dlo/core/direct_aligner.h"
@@ -35,6 +36,11 @@ class LoopCloser {
   /// \param path_length metres travelled up to each keyframe.
   std::vector<int> candidates(const SlamMap& map, int newest,
                               const std::vector<double>& path_length) const;
+
+  /// The keyframes (first, last) whose clouds make the side of keyframe `id` in a verification
+  /// while the map holds `count` keyframes: loop.submap_keyframes of them centred on `id`, moved
+  /// to fit within the map (just `id` for 1).
+  std::pair<int, int> submapWindow(int count, int id) const;
 
   /// Registers keyframe `to`'s cloud against keyframe `from`'s (both of `map`, read back from
   /// its spill file if they left memory), starting at `guess` (pose of `to` in `from`), and

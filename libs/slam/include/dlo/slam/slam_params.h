@@ -148,6 +148,10 @@ struct LoopParams {
   /// keyframe alone. A sparse sensor's keyframes leave the ground between their rings empty, and
   /// two of them taken metres apart rarely measure the same cells.
   int submap_keyframes = 1;
+  /// true: the first loop of a revisit (found by the lattice search) is added only once a later
+  /// keyframe's lattice search finds a loop that puts the vehicle in the same basin (within
+  /// 0.75 m and 2.5 deg through the odometry between them); false: one verification suffices.
+  bool confirm = false;
 };
 
 /// Everything dlo-slam is configured with.

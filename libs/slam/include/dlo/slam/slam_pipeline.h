@@ -2,6 +2,7 @@
 /// \brief The whole SLAM pipeline: odometry, keyframes, pose graph, loop closure.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "dlo/slam/lidar_odometry.h"
@@ -135,6 +136,19 @@ class SlamPipeline {
   int last_loop_from_ = -1000;      ///< its older keyframe
   /// Path length at the last lattice search that closed no loop (loop.retry_distance).
   double last_failed_search_ = -1e9;
+  /// loop.confirm: the first loop of a revisit, verified but not yet added, waiting for a later
+  /// keyframe's loop to agree (its entry in map_.loop_candidates says so meanwhile).
+  struct PendingLoop {
+    PoseEdge edge;
+    size_t candidate = 0;  ///< index in map_.loop_candidates
+    /// The keyframes its two sides were made of (LoopCloser::submapWindow()): a confirmation
+    /// must share none of them, or it repeats the same evidence.
+    std::pair<int, int> from_window, to_window;
+  };
+  std::optional<PendingLoop> pending_loop_;
+  /// Whether two verified loops (edges between keyframes of map_) put the vehicle in the same
+  /// basin: the first carried to the second's keyframes by their poses in the graph.
+  bool sameBasin(const PoseEdge& a, const PoseEdge& b) const;
 };
 
 }  // namespace dlo
