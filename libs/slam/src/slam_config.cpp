@@ -135,7 +135,8 @@ std::vector<ParamField<SlamParams>> fields() {
       paramField("loop", "max_correction", &S::loop, &L::max_correction,
                  "metres between the guess and the verified pose, at most"),
       paramField("loop", "max_disagreement", &S::loop, &L::max_disagreement,
-                 "metres between two verifications started from different guesses, at most"),
+                 "metres; with confirm, the two loops must put the vehicle within this of each "
+                 "other"),
       paramField("loop", "min_sigma_xy", &S::loop, &L::min_sigma_xy,
                  "metres; floor of the standard deviations of graph edges (x, y, z)"),
       paramField("loop", "min_sigma_angle", &S::loop, &L::min_sigma_angle,
@@ -143,11 +144,12 @@ std::vector<ParamField<SlamParams>> fields() {
       paramField("loop", "submap_keyframes", &S::loop, &L::submap_keyframes,
                  "keyframes put together on each side of a verification (the keyframe and its "
                  "neighbours along the drive); 1: the keyframe alone"),
-      paramField("loop", "confirm", &S::loop, &L::confirm,
-                 "true: the first loop of a revisit is added only once a later keyframe's "
-                 "search finds a loop in the same basin (within 0.75 m and 2.5 deg); false: one "
-                 "verification suffices",
-                 booleanNames()),
+      paramField(
+          "loop", "confirm", &S::loop, &L::confirm,
+          "true: the first loop of a revisit is added only once a later keyframe's "
+          "search finds a loop in the same basin (within max_disagreement and 2.5 deg); false: "
+          "one verification suffices",
+          booleanNames()),
   };
   table.insert(table.end(), own.begin(), own.end());
   return table;

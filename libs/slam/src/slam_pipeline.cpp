@@ -20,8 +20,8 @@ constexpr int kLoopCooldown = 3;
 /// the same revisit going on: it is verified from its guess first (LoopSearch::kFromGuess).
 constexpr int kTrackedSpan = 2 * kLoopCooldown;
 /// Two verified loops agree (loop.confirm) when they put the vehicle within half the width of a
-/// lattice basin of each other (the loop closer's basins are 1.5 m and 5 deg apart).
-constexpr double kAgreement = 0.75;             // metres
+/// lattice basin of each other (the loop closer's basins are 1.5 m and 5 deg apart; the distance
+/// is loop.max_disagreement, 0.75 m by default).
 constexpr double kAgreementAngle = 2.5 * kDeg;  // radians
 }  // namespace
 
@@ -244,7 +244,7 @@ bool SlamPipeline::sameBasin(const PoseEdge& a, const PoseEdge& b) const {
   const Eigen::Isometry3d implied =
       pose(b.from).inverse() * pose(a.from) * a.relative * pose(a.to).inverse() * pose(b.to);
   const Eigen::Isometry3d d = implied.inverse() * b.relative;
-  return d.translation().norm() <= kAgreement &&
+  return d.translation().norm() <= params_.loop.max_disagreement &&
          Eigen::AngleAxisd(d.linear()).angle() <= kAgreementAngle;
 }
 

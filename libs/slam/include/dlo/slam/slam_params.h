@@ -135,14 +135,15 @@ struct LoopParams {
   /// Metres travelled after a lattice search that closed no loop before the next one: the same
   /// place seen a metre later rarely verifies where it did not; 0 searches at every keyframe.
   double retry_distance = 2.0;
-  double resolution = 0.2;         ///< metres per cell of the verification grid
-  double window = 60.0;            ///< metres; side of the verification grid
-  double max_rms = 0.45;           ///< verification RMS height error above this (m): rejected
-  double min_inliers = 0.5;        ///< fraction of selected cells with a residual, at least
-  double max_correction = 6.0;     ///< metres between guess and verified pose, at most
-  double max_disagreement = 0.15;  ///< metres between two verifications from perturbed guesses
-  double min_sigma_xy = 0.05;      ///< metres; floor of edge standard deviations (x, y, z)
-  double min_sigma_angle = 0.2;    ///< degrees; floor of edge standard deviations (angles)
+  double resolution = 0.2;      ///< metres per cell of the verification grid
+  double window = 60.0;         ///< metres; side of the verification grid
+  double max_rms = 0.45;        ///< verification RMS height error above this (m): rejected
+  double min_inliers = 0.5;     ///< fraction of selected cells with a residual, at least
+  double max_correction = 6.0;  ///< metres between guess and verified pose, at most
+  /// metres: with `confirm`, the two loops must put the vehicle within this of each other
+  double max_disagreement = 0.75;
+  double min_sigma_xy = 0.05;    ///< metres; floor of edge standard deviations (x, y, z)
+  double min_sigma_angle = 0.2;  ///< degrees; floor of edge standard deviations (angles)
   /// Keyframes whose clouds make each side of a verification: the keyframe and its neighbours
   /// along the drive (centred on it where they exist), put in its frame by their poses. 1: the
   /// keyframe alone. A sparse sensor's keyframes leave the ground between their rings empty, and
@@ -150,7 +151,8 @@ struct LoopParams {
   int submap_keyframes = 1;
   /// true: the first loop of a revisit (found by the lattice search) is added only once a later
   /// keyframe's lattice search finds a loop that puts the vehicle in the same basin (within
-  /// 0.75 m and 2.5 deg through the odometry between them); false: one verification suffices.
+  /// max_disagreement and 2.5 deg, through the graph's poses between them); false: one
+  /// verification suffices.
   bool confirm = false;
 };
 
