@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <string>
+#include <utility>
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
@@ -234,9 +236,9 @@ void SlamPipeline::searchLoops(int newest) {
       return;
     }
   }
-  // A loop left waiting is no failed search: the next keyframe searches again to confirm it.
-  const bool waiting = pending_loop_ && pending_loop_->edge.to == newest;
-  if (searched && !waiting) last_failed_search_ = path_length_[newest];
+  // While a loop waits, no search counts as failed: the next keyframes search again to confirm
+  // it.
+  if (searched && !pending_loop_) last_failed_search_ = path_length_[newest];
 }
 
 bool SlamPipeline::sameBasin(const PoseEdge& a, const PoseEdge& b) const {
