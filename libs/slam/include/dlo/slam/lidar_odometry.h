@@ -285,7 +285,6 @@ class LidarOdometry {
   /// may reject a registration only after kSettledVelocityUpdates of them (disagrees()).
   size_t settled_updates_ = 0;
   int rejected_run_ = 0;  ///< consecutive rejected registrations
-  bool has_reference_ = false;
 };
 
 }  // namespace dlo
