@@ -79,8 +79,7 @@ TEST(PlaceCellsKernels, Sse2IsScalarBitForBit) {
         someCells(g, 300 + extra, rng, cells, own);
         const size_t n = cells.size();
         for (int pose = 0; pose < 2; ++pose) {
-          const Eigen::Matrix3f R = test::testPose(pose).R;
-          const Eigen::Vector3f t = test::testPose(pose).t;
+          const auto [R, t] = test::testPose(pose);
           for (int mode = 0; mode < 3; ++mode) {
             // 0: no warm output; 1: cold start into a warm output; 2: warm start from it.
             std::uniform_real_distribution<float> w(-0.03f, 0.03f);

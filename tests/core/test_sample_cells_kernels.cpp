@@ -64,8 +64,7 @@ TEST(SampleCellsKernels, Sse2IsScalarBitForBit) {
       const std::vector<SelectedCell> cells = someCells(s.geometry(), 1000 + extra, rng);
       // The identity (q = p exactly) and a pose like a registration's.
       for (int pose = 0; pose < 2; ++pose) {
-        const Eigen::Matrix3f R = test::testPose(pose).R;
-        const Eigen::Vector3f t = test::testPose(pose).t;
+        const auto [R, t] = test::testPose(pose);
         const size_t n = cells.size();
         std::vector<simd::CellSample> want(n), got(n);
         simd::sampleCellsScalar(s, cells.data(), 0, n, R, t, want.data());

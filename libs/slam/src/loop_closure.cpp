@@ -16,11 +16,12 @@ constexpr double kDeg = M_PI / 180.0;
 constexpr double kSearchResolution = 0.8;
 constexpr double kSearchOffsets[] = {-4.0, -2.0, 0.0, 2.0, 4.0};
 constexpr double kSearchYaws[] = {-12.0, -6.0, 0.0, 6.0, 12.0};
-/// A lattice search's answer may turn the guess at most this far: its starts reach +-12 deg, and
-/// half a step beyond. An answer farther round left the searched region for an unrelated basin
-/// (seen on simulated HDL-32 drives with keyframe submaps: loops accepted 17-39 deg round, 3 to
-/// 11 m from the truth, where the heading had drifted less than a degree).
-constexpr double kMaxLatticeRotation = 15.0 * kDeg;  // radians
+/// A lattice search's answer may turn the guess at most this far: as far as its starts reach, and
+/// half a step beyond (15 deg). An answer farther round left the searched region for an unrelated
+/// basin (seen on simulated HDL-32 drives with keyframe submaps: loops accepted 17-39 deg round,
+/// 3 to 11 m from the truth, where the heading had drifted less than a degree).
+constexpr double kMaxLatticeRotation =
+    (kSearchYaws[4] + 0.5 * (kSearchYaws[4] - kSearchYaws[3])) * kDeg;  // radians
 /// Two coarse results this far apart are different basins.
 constexpr double kDistinctBasin = 1.5;              // metres
 constexpr double kDistinctBasinAngle = 5.0 * kDeg;  // radians
