@@ -22,7 +22,9 @@
 #include "dlo/metrics/trajectory_io.h"
 #include "dlo/mrpt/open_scan_source.h"
 #include "dlo/slam/localizer.h"
+#include "dlo/slam/localizer_config.h"
 #include "dlo/slam/sensor_profile.h"
+#include "dlo/slam/slam_config.h"
 
 namespace {
 
@@ -58,27 +60,32 @@ struct Arguments {
   std::vector<std::string> sets;
   double min_range = 2.0, max_range = 120.0;
   long max_frames = -1;
-  bool quiet = false;
+  bool quiet = false, dump_config = false;
   std::optional<Eigen::Isometry3d> initial_pose;
 };
 
 std::optional<Arguments> parseArguments(int argc, char** argv) {
   Arguments a;
   dlo::ProgramOptions cl("dlo-localize", kDescription);
-  cl.text("--map", a.map, "a dlo-slam output folder (its heightmap.bin and map.simplemap are read)")
-      .valueName("MAP")
-      .required();
-  cl.text("--input", a.input, "the drive to localise: a rawlog, a Velodyne .pcap or a KITTI folder")
-      .valueName("IN")
-      .required();
-  cl.text("--out", a.out, "output folder (created if needed)").valueName("DIR").required();
+  cl.text("--map", a.map,
+          "a dlo-slam output folder (its heightmap.bin and map.simplemap are read); required "
+          "unless --dump-config")
+      .valueName("MAP");
+  cl.text("--input", a.input,
+          "the drive to localise: a rawlog, a Velodyne .pcap or a KITTI folder; required unless "
+          "--dump-config")
+      .valueName("IN");
+  cl.text("--out", a.out, "output folder (created if needed); required unless --dump-config")
+      .valueName("DIR");
   cl.text("--init", a.init,
           "the first scan's pose in the map's frame, metres and degrees; without it the whole "
           "map is searched")
       .valueName("\"x y yaw\"");
   cl.text("--gt", a.gt, "ground truth in the map's frame (TUM or KITTI), for report.json's error")
       .valueName("FILE");
-  cl.text("--config", a.config, "MRPT INI as dlo-slam's (deskewing, selection, solver)")
+  cl.text("--config", a.config,
+          "MRPT INI: [localizer] (see config/dlo-localize.ini) and dlo-slam's sections for the "
+          "odometry and the registrations (config/dlo-slam.ini)")
       .valueName("FILE");
   cl.repeatable("--set", a.sets, "overrides one parameter after --config; may be repeated")
       .valueName("section.key=value");
@@ -92,8 +99,15 @@ std::optional<Arguments> parseArguments(int argc, char** argv) {
   cl.number("--max-range", a.max_range, "drop points farther than M metres").valueName("M");
   cl.wholeNumber("--max-frames", a.max_frames, "stop after N scans (-1: all)").valueName("N");
   cl.flag("--quiet", a.quiet, "no progress bar");
+  cl.flag("--dump-config", a.dump_config,
+          "print the effective configuration as INI ([localizer], then dlo-slam's sections; "
+          "with auto, the dense profile's) and exit");
   cl.footer(kFooter);
   if (!cl.parse(argc, argv)) return std::nullopt;
+  if (a.dump_config) return a;
+  if (a.map.empty()) throw UsageError{"--map is required (see --help)."};
+  if (a.input.empty()) throw UsageError{"--input is required (see --help)."};
+  if (a.out.empty()) throw UsageError{"--out is required (see --help)."};
   if (!(a.min_range >= 0.0 && a.max_range > a.min_range)) {
     throw UsageError{"--min-range and --max-range must satisfy 0 <= min < max."};
   }
@@ -120,6 +134,7 @@ double percentile(std::vector<double> v, double q) {
 /// The report, from the steps of the run.
 Json report(const Arguments& args, const dlo::Localizer& localizer,
             const std::vector<dlo::LocalizationStep>& steps, const std::string& profile,
+            const dlo::SlamParams& params,
             const std::optional<dlo::metrics::Trajectory>& ground_truth, bool interrupted,
             const std::string& input_error) {
   std::vector<double> ms;
@@ -168,10 +183,25 @@ Json report(const Arguments& args, const dlo::Localizer& localizer,
   }
   j["interrupted"] = interrupted;
   j["input_error"] = input_error;
+  j["config"] = dlo::localizerParamsToIni(localizer.params()) + "\n" + dlo::slamParamsToIni(params);
   return j;
 }
 
 int run(const Arguments& args) {
+  // Every layer is checked before the input is read (with auto, on the dense profile's keys).
+  std::vector<std::string> slam_sets, localizer_sets;
+  dlo::splitLocalizerOverrides(args.sets, slam_sets, localizer_sets);
+  const dlo::SlamConfigLayers layers{args.config, slam_sets};
+  const bool auto_profile = args.sensor_profile == "auto";
+  dlo::SlamParams params =
+      dlo::resolveSlamParams(auto_profile ? "dense" : args.sensor_profile, layers);
+  const dlo::LocalizerParams localizer_params =
+      dlo::resolveLocalizerParams(args.config, localizer_sets);
+  if (args.dump_config) {
+    std::cout << dlo::localizerParamsToIni(localizer_params) << "\n"
+              << dlo::slamParamsToIni(params);
+    return 0;
+  }
   std::optional<dlo::metrics::Trajectory> ground_truth;
   if (!args.gt.empty()) {
     try {
@@ -180,10 +210,6 @@ int run(const Arguments& args) {
       throw dlo::InputError("cannot read ground truth '" + args.gt + "': " + e.what());
     }
   }
-  const dlo::SlamConfigLayers layers{args.config, args.sets};
-  const bool auto_profile = args.sensor_profile == "auto";
-  dlo::SlamParams params =
-      dlo::resolveSlamParams(auto_profile ? "dense" : args.sensor_profile, layers);
   dlo::PriorMap map = dlo::loadPriorMap(args.map);
   dlo::ScanSourceOptions options;
   options.min_range = args.min_range;
@@ -207,7 +233,7 @@ int run(const Arguments& args) {
         dlo::chooseSensorProfile(dlo::sensorEvidence(scan.points, scan.beams, scan.sensor_pose));
     params = dlo::resolveSlamParams(profile.name, layers);
   }
-  dlo::Localizer localizer(std::move(map), dlo::LocalizerParams(), params);
+  dlo::Localizer localizer(std::move(map), localizer_params, params);
   if (args.initial_pose) localizer.setInitialPose(*args.initial_pose);
 
   dlo::metrics::TumWriter trajectory(
@@ -244,7 +270,7 @@ int run(const Arguments& args) {
                             std::vector<unsigned char>(csv.begin(), csv.end()));
   dlo::writeLocalizationImage(localizer.map(), steps, (out / "localization.png").string());
   const Json j =
-      report(args, localizer, steps, profile.name, ground_truth, interrupted, input_error);
+      report(args, localizer, steps, profile.name, params, ground_truth, interrupted, input_error);
   const std::string text = j.dump(2) + "\n";
   dlo::writeBytesAtomically((out / "report.json").string(),
                             std::vector<unsigned char>(text.begin(), text.end()));

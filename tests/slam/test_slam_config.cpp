@@ -14,6 +14,7 @@
 #include "dlo/files/error.h"
 #include "dlo/mrpt/dlo_config.h"
 #include "dlo/mrpt/kitti_scan_source.h"
+#include "dlo/slam/localizer_config.h"
 #include "dlo/slam/slam_config.h"
 
 namespace dlo {
@@ -126,6 +127,61 @@ TEST(SlamConfig, TheRetiredSparseKeysAreRejectedByName) {
 TEST(SlamConfig, AnUnknownKeyIsRejected) {
   SlamParams p;
   EXPECT_THROW(applySlamParamOverrides(p, {"loop.radius=3"}), InputError);
+}
+
+TEST(LocalizerConfig, TheShippedFileIsGeneratedFromTheTableAndHoldsTheDefaults) {
+  expectGenerated("config/dlo-localize.ini", localizerConfigFileText());
+  const LocalizerParams loaded =
+      resolveLocalizerParams(std::string(DLO_SOURCE_DIR) + "/config/dlo-localize.ini", {});
+  EXPECT_EQ(localizerParamsToIni(loaded), localizerParamsToIni(LocalizerParams()));
+  for (const ParamField<LocalizerParams>& f : localizerParamTable().fields())
+    EXPECT_NE(parameterReferenceMarkdown().find("| `" + f.key + "` |"), std::string::npos) << f.key;
+}
+
+/// Writes `text` to a file of the temporary folder named after the running test.
+fs::path iniFile(const std::string& text) {
+  const fs::path path = fs::temp_directory_path() /
+                        (std::string("dlo_localizer_config_") +
+                         ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".ini");
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(LocalizerConfig, TheFileThenTheOverridesOfItsSectionApply) {
+  const fs::path ini =
+      iniFile("[odometry]\ndeskew = false\n[localizer]\nmax_rms = 0.7\nlost_after = 5\n");
+  const std::vector<std::string> sets = {"odometry.deskew=true", "localizer.lost_after=4"};
+  const LocalizerParams p = resolveLocalizerParams(ini.string(), sets);
+  EXPECT_DOUBLE_EQ(p.max_rms, 0.7);
+  EXPECT_EQ(p.lost_after, 4);
+  EXPECT_DOUBLE_EQ(p.search_contrast, LocalizerParams().search_contrast);
+  std::vector<std::string> slam, localizer;
+  splitLocalizerOverrides(sets, slam, localizer);
+  EXPECT_EQ(slam, std::vector<std::string>{"odometry.deskew=true"});
+  EXPECT_EQ(localizer, std::vector<std::string>{"localizer.lost_after=4"});
+  // dlo-slam's sections of the same file are dlo-slam's to read, and it leaves [localizer] alone.
+  EXPECT_FALSE(loadSlamParamsFile(ini.string()).odometry.deskew);
+}
+
+TEST(LocalizerConfig, ABadValueOrKeyIsOneSentenceNamingTheKey) {
+  const auto message = [](const std::string& file, const std::vector<std::string>& sets) {
+    try {
+      resolveLocalizerParams(file, sets);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const fs::path range = iniFile("[localizer]\nmin_inliers = 2\n");
+  std::string m = message(range.string(), {});
+  EXPECT_NE(m.find("localizer.min_inliers"), std::string::npos) << m;
+  EXPECT_NE(m.find(range.filename().string()), std::string::npos) << m;
+  m = message(iniFile("[localizer]\nmax_rmss = 1\n").string(), {});
+  EXPECT_NE(m.find("localizer.max_rmss"), std::string::npos) << m;
+  m = message("", {"localizer.search_every=0"});
+  EXPECT_NE(m.find("localizer.search_every"), std::string::npos) << m;
+  m = message("", {"localizer.search_yaw_step_deg=abc"});
+  EXPECT_NE(m.find("localizer.search_yaw_step_deg"), std::string::npos) << m;
 }
 
 struct CliRun {

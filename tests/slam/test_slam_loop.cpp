@@ -675,5 +675,38 @@ TEST_F(SimulatedLoop, DloLocalizeWritesItsOutputs) {
   EXPECT_NE(message.find("no_such_map"), std::string::npos) << message;
 }
 
+TEST_F(SimulatedLoop, DloLocalizeTakesItsSectionFromTheConfigFileAndSet) {
+  const fs::path& map = exportedMap(*dir_, slam_->map());
+  const fs::path day2 = simulated(*dir_, "day2", "--frames 200 --seed 1 --traffic-seed 7");
+  // No fit of this drive reaches 5 cm RMS: with that bound, no scan is localised.
+  const fs::path ini = *dir_ / "strict.ini";
+  std::ofstream(ini) << "[localizer]\nmax_rms = 0.05\n";
+  const auto localise = [&](const std::string& name, const std::string& options) {
+    const fs::path out = *dir_ / name;
+    const auto [status, log] =
+        runCommand(std::string(DLO_LOCALIZE_BINARY) + " --map " + map.string() + " --input " +
+                   (day2 / "sequence.rawlog").string() + " --out " + out.string() +
+                   " --max-frames 12 --quiet " + options);
+    EXPECT_EQ(status, 0) << log;
+    return test::readJsonFile(out / "report.json");
+  };
+  const nlohmann::json strict = localise("strict", "--config " + ini.string());
+  EXPECT_EQ(strict.at("localised_scans"), 0);
+  EXPECT_NE(strict.at("config").get<std::string>().find("max_rms = 0.05"), std::string::npos);
+  // --set applies after the file.
+  const nlohmann::json relaxed =
+      localise("relaxed", "--config " + ini.string() + " --set localizer.max_rms=1");
+  EXPECT_GE(relaxed.at("localised_scans").get<int>(), 10);
+  // A value out of range: exit 1, one sentence naming the key; nothing written.
+  std::ofstream(*dir_ / "bad.ini") << "[localizer]\nmax_correction = -1\n";
+  const auto [bad, message] =
+      runCommand(std::string(DLO_LOCALIZE_BINARY) + " --map " + map.string() + " --input " +
+                 (day2 / "sequence.rawlog").string() + " --out " + (*dir_ / "bad_config").string() +
+                 " --config " + (*dir_ / "bad.ini").string());
+  EXPECT_EQ(WEXITSTATUS(bad), 1) << message;
+  EXPECT_NE(message.find("localizer.max_correction"), std::string::npos) << message;
+  EXPECT_FALSE(fs::exists(*dir_ / "bad_config"));
+}
+
 }  // namespace
 }  // namespace dlo

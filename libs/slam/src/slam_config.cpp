@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "dlo/mrpt/dlo_config.h"
+#include "dlo/slam/localizer_config.h"
 #include "dlo/slam/sensor_profile.h"
 
 namespace dlo {
@@ -155,6 +156,13 @@ std::vector<ParamField<SlamParams>> fields() {
   return table;
 }
 
+/// `text` with its pipes escaped for a Markdown table cell.
+std::string markdownCell(std::string text) {
+  for (size_t at = 0; (at = text.find('|', at)) != std::string::npos; at += 2)
+    text.replace(at, 1, "\\|");
+  return text;
+}
+
 }  // namespace
 
 const ParamTable<SlamParams>& slamParamTable() {
@@ -234,7 +242,9 @@ std::string parameterReferenceMarkdown() {
       "`libs/slam/src/slam_config.cpp`), like the comments of `config/dlo.ini` and "
       "`config/dlo-slam.ini` and `dlo-slam --dump-config`; a test fails when one of them "
       "differs. `dlo-register` and `CDirectHeightAligner` read [grid] [selection] [solver]; "
-      "`dlo-slam` all five sections. Set a key in an INI file (`--config`) or with "
+      "`dlo-slam` all five sections; `dlo-localize` these and [localizer] "
+      "(`libs/slam/src/localizer_config.cpp`, `config/dlo-localize.ini`). Set a key in an INI "
+      "file (`--config`) or with "
       "`--set section.key=value`. Keys marked *profile* are set by the sensor profile "
       "(`config/sensors/`), which dlo-slam picks from the input.\n";
   std::string current;
@@ -249,10 +259,12 @@ std::string parameterReferenceMarkdown() {
       for (const auto& [name, params] : profiles)
         value += " " + name + " `" + ParamTable<SlamParams>::text(f, params) + "`";
     }
-    std::string doc = f.doc;
-    for (size_t at = 0; (at = doc.find('|', at)) != std::string::npos; at += 2)
-      doc.replace(at, 1, "\\|");
-    out += "| `" + f.key + "` | " + value + " | " + doc + " |\n";
+    out += "| `" + f.key + "` | " + value + " | " + markdownCell(f.doc) + " |\n";
+  }
+  out += "\n## [localizer]\n\n| key | default | description |\n|---|---|---|\n";
+  for (const ParamField<LocalizerParams>& f : localizerParamTable().fields()) {
+    out += "| `" + f.key + "` | `" + ParamTable<LocalizerParams>::text(f, LocalizerParams()) +
+           "` | " + markdownCell(f.doc) + " |\n";
   }
   return out;
 }

@@ -5,7 +5,10 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <deque>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dlo/core/direct_aligner.h"
@@ -13,6 +16,8 @@
 #include "dlo/core/ground_surface.h"
 #include "dlo/core/height_frame.h"
 #include "dlo/core/point_cloud.h"
+#include "dlo/core/rigid_transform.h"
+#include "dlo/core/sweep_timing.h"
 #include "dlo/core/weighted_cloud.h"
 #include "dlo/slam/lidar_odometry.h"
 #include "dlo/slam/slam_params.h"
@@ -38,7 +43,9 @@ struct PriorMap {
 /// \throws InputError naming the file if one is missing, unreadable or holds nothing.
 PriorMap loadPriorMap(const std::string& slam_out_dir);
 
-/// How the Localizer registers scans against the prior map and when it believes them.
+/// How the Localizer registers scans against the prior map and when it believes them. dlo-localize
+/// reads them from the [localizer] section of its --config file and from --set localizer.key=value
+/// (localizer_config.h); config/dlo-localize.ini documents every key.
 struct LocalizerParams {
   /// Registration grid (both the scan's and the map's): cells per side, at the height map's
   /// resolution (0.2 m from dlo-slam): 60 m across.
@@ -54,22 +61,19 @@ struct LocalizerParams {
   double min_inliers = 0.6;
   double rms_ratio = 1.5;
   double max_rms = 1.0;
-  /// ... and it moved the pose at most this far (metres) from the prediction: over one scan the
-  /// odometry's motion is right to centimetres, and a registration that jumps by more has found
-  /// another basin (seen: 1.3-1.9 m jumps at an RMS the drive reached elsewhere).
+  /// ... and it moved the pose at most this far (metres) from the prediction: from one scan to
+  /// the next the prediction is right to centimetres, and a registration that jumps by more has
+  /// found another basin.
   double max_correction = 0.5;
   /// Tracking from a prediction (or a place a search found) uses the pyramid's levels up to
   /// this cell size (metres); a search from the keyframes uses every level (up to 1.6 m). The
-  /// prediction is right to centimetres, and a coarser level only adds basins to fall into
-  /// (simulated HDL-64 second days: 95.5-98.5 % of the scans localised with the 1.6 m level,
-  /// 97-99.5 % without).
+  /// prediction is right to centimetres, and a coarser level only adds basins to fall into.
   double tracking_basin = 0.4;
   /// After this many scans in a row that were not localised, the vehicle is lost: the next scan
   /// searches the whole map again (a kidnapping, a registration gone astray).
   int lost_after = 3;
   /// A global search is tried at most once every this many scans while lost (it registers the
-  /// scan from 24 headings at every search_spacing along the map: about 0.7 s on the simulated
-  /// block's 64 keyframes).
+  /// scan from every heading at every search_spacing along the map's keyframes).
   int search_every = 5;
   /// Global search: starts at the map's keyframes at least search_spacing metres apart, at
   /// headings search_yaw_step_deg apart. Places are compared by their cost (the mean robust
@@ -77,16 +81,17 @@ struct LocalizerParams {
   /// counts as found when it is believable as tracking believes a scan (min_inliers, well
   /// conditioned), its cost is at most the median place's divided by search_contrast, and
   /// every other distinct place costs at least ambiguity_ratio times more. The ambiguity ratio
-  /// is what tells a place that is there from one that is not: simulated scans of a town the
-  /// map does not hold find a second place within 1.00-1.11 times the best's cost (VLP-16 and
-  /// HDL-64 alike), scans of the mapped town 1.24-2.3 times. The median place separates the
-  /// sensors more than the towns (the right place costs 1.4-1.9 times less than the median for a
-  /// VLP-16, 2.6-3.5 times for an HDL-64, 1.5-1.7 in the other town for an HDL-64): it only
-  /// refuses scans that fit everywhere alike.
+  /// is what tells a place that is there from one that is not (a town the map does not hold
+  /// has a second place nearly as good); the contrast only refuses scans that fit everywhere
+  /// alike.
   double search_spacing = 3.0;
   double search_yaw_step_deg = 15.0;
   double search_contrast = 1.4;
   double ambiguity_ratio = 1.3;
+
+  /// An empty string if every value is in range, else one sentence naming the key
+  /// ("localizer.key") and the range.
+  std::string validate() const;
 };
 
 /// What happened to one scan.
@@ -116,13 +121,16 @@ struct LocalizationStep {
 void writeLocalizationImage(const PriorMap& map, const std::vector<LocalizationStep>& steps,
                             const std::string& png);
 
-/// Localises scans, one at a time, on a PriorMap. A LidarOdometry runs beside it from the first
-/// scan: its motion since the last scan predicts the pose on the map, and its velocity deskews
-/// the sweep. With no initial pose the first scans search the whole map (every keyframe, every
-/// heading, registered at full resolution, accepted only if one place clearly fits best); then
-/// each scan is registered against the height map around its predicted pose, its z, roll and
-/// pitch from the ground. A scan that does not fit the map well keeps the odometry's pose and is
-/// reported as not localised; after a few in a row the search runs again.
+/// Localises scans, one at a time, on a PriorMap. While the map localises every scan, the
+/// localised poses carry the vehicle: their velocity predicts the next pose (constant velocity)
+/// and deskews the sweep. Before the first fix, and from a scan after one the map did not
+/// localise until the map localises again, a LidarOdometry runs beside it: its motion since the
+/// last scan predicts the pose on the map (dead reckoning), and its velocity deskews the sweep.
+/// With no initial pose the first scans search the whole map (every keyframe, every heading,
+/// registered at full resolution, accepted only if one place clearly fits best); then each scan is
+/// registered against the height map around its predicted pose, its z, roll and pitch from the
+/// ground. A scan that does not fit the map well keeps the odometry's pose and is reported as not
+/// localised; after a few in a row the search runs again.
 class Localizer {
  public:
   /// \param slam the parameters of the odometry that runs beside (and of the registrations
@@ -189,9 +197,20 @@ class Localizer {
   GroundSurface ground_;  ///< the current frame's ground (fitted once per scan, when needed)
   bool ground_fitted_ = false;
 
-  LidarOdometry odometry_;
+  /// The odometry, run only while the map does not localise every scan (see process()):
+  /// created again at the first scan that needs it, its own frame starting there.
+  std::unique_ptr<LidarOdometry> odometry_;
   Eigen::Isometry3d last_odometry_ = Eigen::Isometry3d::Identity();  ///< odometry frame
-  size_t scans_ = 0;       ///< processed so far (after the first, the odometry has a velocity)
+  /// Body twist per second: the odometry's while it runs, else measured between the last two
+  /// localised poses. It deskews the sweep and, while the map localises, predicts the motion.
+  Vector6d velocity_ = Vector6d::Zero();
+  bool velocity_known_ = false;
+  /// The last localised scans in a row: time and pose (map frame), oldest first.
+  std::deque<std::pair<double, Eigen::Isometry3d>> recent_poses_;
+  double last_time_ = 0.0;
+  SweepPeriodEstimate period_;          ///< the scans' timestamps (estimated per-point times)
+  std::vector<float> estimated_times_;  ///< per-point times estimated from azimuths
+  size_t scans_ = 0;  ///< processed so far (after the first, there is a velocity to deskew with)
   bool tracking_ = false;  ///< a pose to predict from (a fix or an initial pose)
   bool fixed_ = false;
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();  ///< map frame
