@@ -74,6 +74,11 @@ def main():
     ap.add_argument("--seeds", nargs="+", type=int, default=[1, 2, 3])
     ap.add_argument("--frames", type=int, default=300, help="scans of the mapping drive")
     ap.add_argument("--day2-frames", type=int, default=200, help="scans of the second day")
+    ap.add_argument("--patrol", action="store_true",
+                    help="both days a robot's patrol (dlo-simulate --patrol: 1.5 m/s, turns on "
+                         "the spot at 90 deg/s) instead of a car's lap; cached apart")
+    ap.add_argument("--set", action="append", default=[], metavar="section.key=value",
+                    help="passed on to dlo-localize (e.g. localizer.bridge_only=true); repeatable")
     args = ap.parse_args()
     apps = {n: os.path.join(args.build, "apps", n, n)
             for n in ("dlo-simulate", "dlo-slam", "dlo-localize")}
@@ -83,7 +88,8 @@ def main():
     rows = []
     for sensor in args.sensors:
         for seed in args.seeds:
-            base = os.path.join(args.out, "data", f"{sensor}-s{seed}")
+            kind = "-patrol" if args.patrol else ""
+            base = os.path.join(args.out, "data", f"{sensor}{kind}-s{seed}")
             day1, day2 = os.path.join(base, "day1"), os.path.join(base, "day2")
             mapped, loc = os.path.join(base, "map"), os.path.join(base, "localize")
             os.makedirs(base, exist_ok=True)
@@ -91,14 +97,15 @@ def main():
                                      (day2, ["--traffic-seed", str(seed + 100)], args.day2_frames)):
                 if not os.path.exists(os.path.join(d, "sequence.rawlog")):
                     run([apps["dlo-simulate"], "--out", d, "--frames", str(frames), "--sensor",
-                         sensor, "--seed", str(seed), "--quiet"] + extra, d + ".log")
+                         sensor, "--seed", str(seed), "--quiet"] + extra +
+                        (["--patrol"] if args.patrol else []), d + ".log")
             if not os.path.exists(os.path.join(mapped, "report.json")):
                 run([apps["dlo-slam"], "--input", os.path.join(day1, "sequence.rawlog"), "--gt",
                      os.path.join(day1, "groundtruth.tum"), "--out", mapped, "--quiet"],
                     mapped + ".log")
             rawlog = os.path.join(day2, "sequence.rawlog")
             run([apps["dlo-localize"], "--map", mapped, "--input", rawlog, "--out", loc,
-                 "--quiet"], loc + ".log")
+                 "--quiet"] + [x for a in args.set for x in ("--set", a)], loc + ".log")
             report = json.load(open(os.path.join(loc, "report.json")))
             est = load_tum(os.path.join(loc, "trajectory.tum"))
             map_err = errors(est, load_tum(os.path.join(mapped, "trajectory.tum")))

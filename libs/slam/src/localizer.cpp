@@ -47,8 +47,9 @@ constexpr size_t kRecentFits = 20;
 /// Scans after a re-localisation that jumped away from the odometry's pose that must be
 /// localised before the jump is reported.
 constexpr int kConfirmations = 2;
-/// The velocity that carries a localised vehicle is measured over the last this many intervals
-/// between localised scans: over one, each registration's error (centimetres, tenths of a
+/// With bridge_only, the velocity that carries a localised vehicle is measured over the last this
+/// many intervals between localised scans (so many + 1 localised in a row stop the odometry):
+/// over one, each registration's error (centimetres, tenths of a
 /// degree) goes into the next prediction and the sweep's deskewing, and the poses oscillated
 /// about the path (steps of 0.6 and 0.9 m in turn at 9 m/s on a simulated HDL-64 drive). Over a
 /// turn of constant rate, the twist over several intervals is the same as over one.
@@ -196,13 +197,14 @@ LocalizationStep Localizer::process(double time, const PointCloud& points,
   step.time = time;
   const double dt = scans_ > 0 ? time - last_time_ : 0.0;
   period_.add(time);
-  // While the map localises every scan, the last two localised poses carry the vehicle to the
-  // next scan (at 10 Hz a constant velocity is right to centimetres, and the map corrects
-  // them): the odometry, which costs as much as the registration against the map, does not
-  // run. Before the first fix, and from a scan after one the map did not localise, it runs
-  // beside, from that scan: its motion bridges the scans the map does not localise.
-  const bool from_map = tracking_ && unlocalised_run_ == 0 && probation_ == 0 && velocity_known_ &&
-                        dt > 0.0 && dt < 1.0;
+  // With bridge_only, while the map localises every scan, the localised poses carry the vehicle
+  // to the next scan (at 10 Hz a constant velocity is right to centimetres, and the map corrects
+  // them): the odometry, which costs as much as the registration against the map, does not run.
+  // It runs before the first fix and from the scan after one that the map did not localise,
+  // until the map has localised enough scans in a row to measure the velocity again: its
+  // motion bridges the scans the map does not localise.
+  const bool from_map = params_.bridge_only && tracking_ && probation_ == 0 &&
+                        recent_poses_.size() > kVelocityIntervals && dt > 0.0 && dt < 1.0;
   Eigen::Isometry3d moved = expSE3(velocity_ * std::max(dt, 0.0));
   const std::vector<float>* times = nullptr;
   if (from_map) {
@@ -214,13 +216,10 @@ LocalizationStep Localizer::process(double time, const PointCloud& points,
     const bool started = odometry_ != nullptr;
     if (!started) odometry_ = std::make_unique<LidarOdometry>(bridgingOdometry(slam_));
     const OdometryStep odometry = odometry_->process(time, points, point_times);
-    // A odometry started at this scan has no motion yet: the velocity carries the pose.
+    // An odometry started at this scan has no motion yet: the last velocity carries the pose.
     if (started) moved = last_odometry_.inverse() * odometry.pose;
     last_odometry_ = odometry.pose;
-    if (odometry_->frames() > 1) {
-      velocity_ = odometry_->velocity();
-      velocity_known_ = true;
-    }
+    if (odometry_->frames() > 1) velocity_ = odometry_->velocity();
     times = &odometry_->lastPointTimes();  // estimated once, there
   }
   const SweepMotion motion =
@@ -275,15 +274,15 @@ LocalizationStep Localizer::process(double time, const PointCloud& points,
   }
 
   if (believed) {
-    // Localised after a localised scan: their poses measure the velocity (the odometry's, where
-    // it ran, is kept: it has seen more than one interval).
-    if (!from_map) recent_poses_.clear();
+    // Localised scans in a row measure the velocity once the odometry no longer runs (its own,
+    // where it runs, is kept). A re-localisation starts them again: the poses before lie
+    // elsewhere.
+    if (step.found) recent_poses_.clear();
     recent_poses_.emplace_back(time, step.pose);
     if (recent_poses_.size() > kVelocityIntervals + 1) recent_poses_.pop_front();
     if (from_map) {
       const auto& [t0, p0] = recent_poses_.front();
       velocity_ = logSE3(p0.inverse() * step.pose) / (time - t0);
-      velocity_known_ = true;
     }
     tracking_ = true;
     fixed_ = true;

@@ -13,15 +13,22 @@ constexpr const char* kSection = "localizer";
 /// The field `member` of LocalizerParams, a flat struct, in [localizer].
 template <typename T>
 ParamField<LocalizerParams> field(const char* key, T LocalizerParams::*member, const char* doc) {
-  static_assert(std::is_same_v<T, int> || std::is_same_v<T, double>, "int or double parameters");
+  static_assert(std::is_same_v<T, int> || std::is_same_v<T, double> || std::is_same_v<T, bool>,
+                "int, double or bool parameters");
   return ParamField<LocalizerParams>{
       kSection,
       key,
       doc,
-      std::is_same_v<T, int>,
+      !std::is_same_v<T, double>,
       [member](const LocalizerParams& p) { return static_cast<double>(p.*member); },
-      [member](LocalizerParams& p, double v) { p.*member = static_cast<T>(v); },
-      {}};
+      [member](LocalizerParams& p, double v) {
+        if constexpr (std::is_same_v<T, bool>) {
+          p.*member = v != 0.0;
+        } else {
+          p.*member = static_cast<T>(v);
+        }
+      },
+      std::is_same_v<T, bool> ? booleanNames() : std::vector<NamedValue>{}};
 }
 
 std::vector<ParamField<LocalizerParams>> fields() {
@@ -64,6 +71,11 @@ std::vector<ParamField<LocalizerParams>> fields() {
       field("ambiguity_ratio", &P::ambiguity_ratio,
             ">= 1; every other distinct place must cost at least this times the best's, else "
             "the search found nothing (parallel streets, a town the map does not hold)"),
+      field("bridge_only", &P::bridge_only,
+            "true: while the map localises every scan, the localised poses' velocity predicts "
+            "and deskews the next one and the odometry stops, starting afresh where the map "
+            "fails, to bridge (half the time per scan; for dense sensors: sparse drives "
+            "localised fewer scans); false: the odometry runs beside every scan"),
   };
 }
 

@@ -88,6 +88,12 @@ struct LocalizerParams {
   double search_yaw_step_deg = 15.0;
   double search_contrast = 1.4;
   double ambiguity_ratio = 1.3;
+  /// true: once the map has localised kVelocityIntervals + 1 scans in a row, the odometry stops
+  /// and the localised poses' velocity predicts the next scan and deskews it, until a scan is
+  /// not localised (the odometry then starts afresh and bridges); false: the odometry runs
+  /// beside every scan. True halves the time per scan; it suits dense sensors, whose fits
+  /// against the map are tight (docs/benchmarks.md: sparse drives localised fewer scans).
+  bool bridge_only = false;
 
   /// An empty string if every value is in range, else one sentence naming the key
   /// ("localizer.key") and the range.
@@ -121,11 +127,11 @@ struct LocalizationStep {
 void writeLocalizationImage(const PriorMap& map, const std::vector<LocalizationStep>& steps,
                             const std::string& png);
 
-/// Localises scans, one at a time, on a PriorMap. While the map localises every scan, the
-/// localised poses carry the vehicle: their velocity predicts the next pose (constant velocity)
-/// and deskews the sweep. Before the first fix, and from a scan after one the map did not
-/// localise until the map localises again, a LidarOdometry runs beside it: its motion since the
-/// last scan predicts the pose on the map (dead reckoning), and its velocity deskews the sweep.
+/// Localises scans, one at a time, on a PriorMap. A LidarOdometry runs beside it: its motion
+/// since the last scan predicts the pose on the map (and carries it over the scans the map does
+/// not localise), and its velocity deskews the sweep. With LocalizerParams::bridge_only, it runs
+/// only where the map has not localised the last scans: elsewhere the localised poses' velocity
+/// predicts the next pose and deskews the sweep.
 /// With no initial pose the first scans search the whole map (every keyframe, every heading,
 /// registered at full resolution, accepted only if one place clearly fits best); then each scan is
 /// registered against the height map around its predicted pose, its z, roll and pitch from the
@@ -204,7 +210,6 @@ class Localizer {
   /// Body twist per second: the odometry's while it runs, else measured between the last two
   /// localised poses. It deskews the sweep and, while the map localises, predicts the motion.
   Vector6d velocity_ = Vector6d::Zero();
-  bool velocity_known_ = false;
   /// The last localised scans in a row: time and pose (map frame), oldest first.
   std::deque<std::pair<double, Eigen::Isometry3d>> recent_poses_;
   double last_time_ = 0.0;
