@@ -48,10 +48,9 @@ constexpr size_t kRecentFits = 20;
 /// localised before the jump is reported.
 constexpr int kConfirmations = 2;
 /// With bridge_only, the velocity that carries a localised vehicle is measured over the last this
-/// many intervals between localised scans (so many + 1 localised in a row stop the odometry):
-/// over one, each registration's error (centimetres, tenths of a
-/// degree) goes into the next prediction and the sweep's deskewing, and the poses oscillated
-/// about the path (steps of 0.6 and 0.9 m in turn at 9 m/s on a simulated HDL-64 drive). Over a
+/// many intervals between localised scans (so many + 1 localised in a row stop the odometry).
+/// Over one interval, each registration's error (centimetres, tenths of a degree) goes into the
+/// next prediction and the sweep's deskewing, and the poses oscillated about the path. Over a
 /// turn of constant rate, the twist over several intervals is the same as over one.
 constexpr size_t kVelocityIntervals = 3;
 /// A search needs this many distinct places that fit at all to judge the best against them.
