@@ -195,8 +195,8 @@ int run(const Arguments& args) {
   const bool auto_profile = args.sensor_profile == "auto";
   dlo::SlamParams params =
       dlo::resolveSlamParams(auto_profile ? "dense" : args.sensor_profile, layers);
-  const dlo::LocalizerParams localizer_params =
-      dlo::resolveLocalizerParams(args.config, localizer_sets);
+  dlo::LocalizerParams localizer_params = dlo::resolveLocalizerParams(
+      auto_profile ? "dense" : args.sensor_profile, args.config, localizer_sets);
   if (args.dump_config) {
     std::cout << dlo::localizerParamsToIni(localizer_params) << "\n"
               << dlo::slamParamsToIni(params);
@@ -232,6 +232,7 @@ int run(const Arguments& args) {
     profile =
         dlo::chooseSensorProfile(dlo::sensorEvidence(scan.points, scan.beams, scan.sensor_pose));
     params = dlo::resolveSlamParams(profile.name, layers);
+    localizer_params = dlo::resolveLocalizerParams(profile.name, args.config, localizer_sets);
   }
   dlo::Localizer localizer(std::move(map), localizer_params, params);
   if (args.initial_pose) localizer.setInitialPose(*args.initial_pose);

@@ -132,8 +132,10 @@ TEST(SlamConfig, AnUnknownKeyIsRejected) {
 TEST(LocalizerConfig, TheShippedFileIsGeneratedFromTheTableAndHoldsTheDefaults) {
   expectGenerated("config/dlo-localize.ini", localizerConfigFileText());
   const LocalizerParams loaded =
-      resolveLocalizerParams(std::string(DLO_SOURCE_DIR) + "/config/dlo-localize.ini", {});
+      resolveLocalizerParams("", std::string(DLO_SOURCE_DIR) + "/config/dlo-localize.ini", {});
   EXPECT_EQ(localizerParamsToIni(loaded), localizerParamsToIni(LocalizerParams()));
+  // The profile's key is commented out, with the dense profile's value (the default).
+  EXPECT_NE(localizerConfigFileText().find("\n;bridge_only = true\n"), std::string::npos);
   for (const ParamField<LocalizerParams>& f : localizerParamTable().fields())
     EXPECT_NE(parameterReferenceMarkdown().find("| `" + f.key + "` |"), std::string::npos) << f.key;
 }
@@ -151,7 +153,7 @@ TEST(LocalizerConfig, TheFileThenTheOverridesOfItsSectionApply) {
   const fs::path ini =
       iniFile("[odometry]\ndeskew = false\n[localizer]\nmax_rms = 0.7\nlost_after = 5\n");
   const std::vector<std::string> sets = {"odometry.deskew=true", "localizer.lost_after=4"};
-  const LocalizerParams p = resolveLocalizerParams(ini.string(), sets);
+  const LocalizerParams p = resolveLocalizerParams("", ini.string(), sets);
   EXPECT_DOUBLE_EQ(p.max_rms, 0.7);
   EXPECT_EQ(p.lost_after, 4);
   EXPECT_DOUBLE_EQ(p.search_contrast, LocalizerParams().search_contrast);
@@ -166,7 +168,7 @@ TEST(LocalizerConfig, TheFileThenTheOverridesOfItsSectionApply) {
 TEST(LocalizerConfig, ABadValueOrKeyIsOneSentenceNamingTheKey) {
   const auto message = [](const std::string& file, const std::vector<std::string>& sets) {
     try {
-      resolveLocalizerParams(file, sets);
+      resolveLocalizerParams("", file, sets);
     } catch (const InputError& e) {
       return std::string(e.what());
     }
@@ -182,6 +184,20 @@ TEST(LocalizerConfig, ABadValueOrKeyIsOneSentenceNamingTheKey) {
   EXPECT_NE(m.find("localizer.search_every"), std::string::npos) << m;
   m = message("", {"localizer.search_yaw_step_deg=abc"});
   EXPECT_NE(m.find("localizer.search_yaw_step_deg"), std::string::npos) << m;
+}
+
+TEST(LocalizerConfig, TheSensorProfileSetsItsKeysBeneathTheFileAndTheOverrides) {
+  // The dense profile is the defaults; the sparse one runs the odometry beside every scan.
+  EXPECT_EQ(localizerParamsToIni(resolveLocalizerParams("dense", "", {})),
+            localizerParamsToIni(LocalizerParams()));
+  EXPECT_TRUE(LocalizerParams().bridge_only);
+  EXPECT_FALSE(resolveLocalizerParams("sparse", "", {}).bridge_only);
+  EXPECT_TRUE(resolveLocalizerParams("sparse", "", {"localizer.bridge_only=true"}).bridge_only);
+  const fs::path file =
+      fs::path(DLO_SOURCE_DIR) / "config" / "sensors" / "sparse.ini";  // a profile by its path
+  EXPECT_FALSE(resolveLocalizerParams(file.string(), "", {}).bridge_only);
+  EXPECT_EQ(localizerProfileKeys(), std::vector<std::string>{"localizer.bridge_only"});
+  EXPECT_THROW(resolveLocalizerParams("medium", "", {}), InputError);
 }
 
 struct CliRun {

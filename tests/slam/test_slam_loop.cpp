@@ -693,12 +693,13 @@ TEST_F(SimulatedLoop, DloLocalizeTakesItsSectionFromTheConfigFileAndSet) {
   const nlohmann::json strict = localise("strict", "--config " + ini.string());
   EXPECT_EQ(strict.at("localised_scans"), 0);
   EXPECT_NE(strict.at("config").get<std::string>().find("max_rms = 0.05"), std::string::npos);
-  // --set applies after the file; with bridge_only the odometry stops while the map localises.
+  // --set applies after the file, the file after the sensor profile (dense: bridge_only).
+  EXPECT_NE(strict.at("config").get<std::string>().find("bridge_only = true"), std::string::npos);
   const nlohmann::json relaxed =
       localise("relaxed", "--config " + ini.string() +
-                              " --set localizer.max_rms=1 --set localizer.bridge_only=true");
+                              " --set localizer.max_rms=1 --set localizer.bridge_only=false");
   EXPECT_GE(relaxed.at("localised_scans").get<int>(), 10);
-  EXPECT_NE(relaxed.at("config").get<std::string>().find("bridge_only = true"), std::string::npos);
+  EXPECT_NE(relaxed.at("config").get<std::string>().find("bridge_only = false"), std::string::npos);
   // A value out of range: exit 1, one sentence naming the key; nothing written.
   std::ofstream(*dir_ / "bad.ini") << "[localizer]\nmax_correction = -1\n";
   const auto [bad, message] =

@@ -13,6 +13,7 @@
 #include "dlo/metrics/trajectory_io.h"
 #include "dlo/mrpt/rawlog_scan_source.h"
 #include "dlo/slam/localizer.h"
+#include "dlo/slam/localizer_config.h"
 #include "dlo/slam/sensor_profile.h"
 #include "dlo/slam/slam_config.h"
 #include "dlo/slam/slam_pipeline.h"
@@ -201,7 +202,7 @@ TEST(SparseSensors, AVlp16LapClosesItsLoopAndASecondDayLocalisesOnItsMap) {
   options.render = false;
   exportAll(map, out.string(), options);
   const Drive day2 = simulate("VLP16", 4, 60, "--traffic-seed 104");
-  Localizer localizer(loadPriorMap(out.string()), LocalizerParams(), params);
+  Localizer localizer(loadPriorMap(out.string()), resolveLocalizerParams("sparse", "", {}), params);
   RawlogScanSource source((day2.dir / "sequence.rawlog").string());
   TimedScan scan;
   std::vector<LocalizationStep> steps;

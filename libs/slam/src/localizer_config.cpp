@@ -1,8 +1,14 @@
 #include "dlo/slam/localizer_config.h"
 
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <algorithm>
+
 #include <string>
 #include <type_traits>
 #include <vector>
+
+#include "dlo/slam/sensor_profile.h"
 
 namespace dlo {
 
@@ -72,10 +78,11 @@ std::vector<ParamField<LocalizerParams>> fields() {
             ">= 1; every other distinct place must cost at least this times the best's, else "
             "the search found nothing (parallel streets, a town the map does not hold)"),
       field("bridge_only", &P::bridge_only,
-            "true: while the map localises every scan, the localised poses' velocity predicts "
-            "and deskews the next one and the odometry stops, starting afresh where the map "
-            "fails, to bridge (half the time per scan; for dense sensors: sparse drives "
-            "localised fewer scans); false: the odometry runs beside every scan"),
+            "true: once the map has localised four scans in a row, the odometry stops and the "
+            "localised poses' velocity predicts and deskews the next scan, the odometry starting "
+            "afresh where the map fails, to bridge (half the time per scan); false: the odometry "
+            "runs beside every scan (sparse sensors: their registrations against the map lean on "
+            "the prediction along streets)"),
   };
 }
 
@@ -98,14 +105,43 @@ void splitLocalizerOverrides(const std::vector<std::string>& assignments,
     (isLocalizerAssignment(a) ? localizer : slam).push_back(a);
 }
 
-LocalizerParams resolveLocalizerParams(const std::string& config_file,
+LocalizerParams resolveLocalizerParams(const std::string& profile, const std::string& config_file,
                                        const std::vector<std::string>& sets) {
   LocalizerParams p;
+  if (!profile.empty()) {
+    bool built_in = false;
+    for (const SensorProfile& s : sensorProfiles()) {
+      if (s.name != profile) continue;
+      mrpt::config::CConfigFileMemory ini(s.ini);
+      p = localizerParamTable().load(ini, "", p);
+      built_in = true;
+    }
+    if (!built_in) {
+      if (profile.find('/') == std::string::npos && profile.find(".ini") == std::string::npos) {
+        sensorProfile(profile);  // throws, naming the profiles there are
+      }
+      p = localizerParamTable().loadFile(profile, "", p);
+    }
+  }
   if (!config_file.empty()) p = localizerParamTable().loadFile(config_file, "", p);
   std::vector<std::string> slam, localizer;
   splitLocalizerOverrides(sets, slam, localizer);
   localizerParamTable().applyOverrides(p, localizer);
   return p;
+}
+
+std::vector<std::string> localizerProfileKeys() {
+  std::vector<std::string> keys;
+  for (const ParamField<LocalizerParams>& f : localizerParamTable().fields()) {
+    for (const SensorProfile& profile : sensorProfiles()) {
+      mrpt::config::CConfigFileMemory ini(profile.ini);
+      if (!ini.read_string(kSection, f.key, "").empty() &&
+          std::find(keys.begin(), keys.end(), f.name()) == keys.end()) {
+        keys.push_back(f.name());
+      }
+    }
+  }
+  return keys;
 }
 
 std::string localizerParamsToIni(const LocalizerParams& params) {
@@ -123,7 +159,15 @@ std::string localizerConfigFileText() {
              "localizer.key=value; dlo-localize --dump-config prints the effective "
              "configuration. Every key is optional: a missing key keeps the default shown here. "
              "A value out of range is rejected naming section.key and the range.") +
-         "\n" + localizerParamTable().toIni(LocalizerParams(), "");
+         ";\n" +
+         param_text::comment(
+             "The keys that depend on the kind of sensor are set by the sensor profile, "
+             "config/sensors/dense.ini or sparse.ini, which dlo-localize picks from the input "
+             "(--sensor-profile); they are commented out below, with the dense profile's "
+             "values.") +
+         "\n" +
+         localizerParamTable().toIni(LocalizerParams(), "", localizerProfileKeys(),
+                                     "(sensor profile)");
 }
 
 }  // namespace dlo

@@ -262,9 +262,17 @@ std::string parameterReferenceMarkdown() {
     out += "| `" + f.key + "` | " + value + " | " + markdownCell(f.doc) + " |\n";
   }
   out += "\n## [localizer]\n\n| key | default | description |\n|---|---|---|\n";
+  const std::vector<std::string> localizer_keys = localizerProfileKeys();
   for (const ParamField<LocalizerParams>& f : localizerParamTable().fields()) {
-    out += "| `" + f.key + "` | `" + ParamTable<LocalizerParams>::text(f, LocalizerParams()) +
-           "` | " + markdownCell(f.doc) + " |\n";
+    std::string value = "`" + ParamTable<LocalizerParams>::text(f, LocalizerParams()) + "`";
+    if (std::find(localizer_keys.begin(), localizer_keys.end(), f.name()) != localizer_keys.end()) {
+      value = "*profile*:";
+      for (const SensorProfile& p : sensorProfiles()) {
+        value += " " + p.name + " `" +
+                 ParamTable<LocalizerParams>::text(f, resolveLocalizerParams(p.name, "", {})) + "`";
+      }
+    }
+    out += "| `" + f.key + "` | " + value + " | " + markdownCell(f.doc) + " |\n";
   }
   return out;
 }

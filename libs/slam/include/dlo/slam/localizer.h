@@ -88,12 +88,13 @@ struct LocalizerParams {
   double search_yaw_step_deg = 15.0;
   double search_contrast = 1.4;
   double ambiguity_ratio = 1.3;
-  /// true: once the map has localised kVelocityIntervals + 1 scans in a row, the odometry stops
-  /// and the localised poses' velocity predicts the next scan and deskews it, until a scan is
-  /// not localised (the odometry then starts afresh and bridges); false: the odometry runs
-  /// beside every scan. True halves the time per scan; it suits dense sensors, whose fits
-  /// against the map are tight (docs/benchmarks.md: sparse drives localised fewer scans).
-  bool bridge_only = false;
+  /// true: once the map has localised four scans in a row, the odometry stops and the localised
+  /// poses' velocity predicts the next scan and deskews it, until a scan is not localised (the
+  /// odometry then starts afresh and bridges); false: the odometry runs beside every scan. Set
+  /// by the sensor profile (config/sensors/): true for dense sensors, whose fits against the
+  /// map are tight; false for sparse ones, whose registrations against the map lean on the
+  /// prediction along streets that the scan's odometry measures better.
+  bool bridge_only = true;
 
   /// An empty string if every value is in range, else one sentence naming the key
   /// ("localizer.key") and the range.
@@ -129,9 +130,9 @@ void writeLocalizationImage(const PriorMap& map, const std::vector<LocalizationS
 
 /// Localises scans, one at a time, on a PriorMap. A LidarOdometry runs beside it: its motion
 /// since the last scan predicts the pose on the map (and carries it over the scans the map does
-/// not localise), and its velocity deskews the sweep. With LocalizerParams::bridge_only, it runs
-/// only where the map has not localised the last scans: elsewhere the localised poses' velocity
-/// predicts the next pose and deskews the sweep.
+/// not localise), and its velocity deskews the sweep. With LocalizerParams::bridge_only (dense
+/// sensors), it runs only where the map has not localised the last scans: elsewhere the
+/// localised poses' velocity predicts the next pose and deskews the sweep.
 /// With no initial pose the first scans search the whole map (every keyframe, every heading,
 /// registered at full resolution, accepted only if one place clearly fits best); then each scan is
 /// registered against the height map around its predicted pose, its z, roll and pitch from the
