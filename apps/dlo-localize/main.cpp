@@ -37,9 +37,11 @@ constexpr const char* kFooter = R"(Outputs in DIR (each file atomically):
   trajectory.tum     the localised scans' poses in the map's frame (scans not localised are left
                      out)
   localization.csv   one line per scan: time, localised, searched, found, confidence (0-1), RMS
-                     height error, inlier fraction, x, y, z, yaw (deg), ms
+                     height error, inlier fraction, x, y, z, yaw (deg), ms, odometry (whether the
+                     odometry ran: localizer.bridge_only)
   report.json        ms per scan (median, p95), fraction of scans localised, re-localisations,
-                     scans and seconds to the first fix, and with --gt the position error
+                     scans and seconds to the first fix, scans the odometry ran on, and with --gt
+                     the position error
   localization.png   the map from above with the path: green localised, red predicted
 
 Input: as dlo-slam's (a rawlog, a Velodyne .pcap with --model, or a KITTI folder).
@@ -138,12 +140,13 @@ Json report(const Arguments& args, const dlo::Localizer& localizer,
             const std::optional<dlo::metrics::Trajectory>& ground_truth, bool interrupted,
             const std::string& input_error) {
   std::vector<double> ms;
-  size_t localised = 0, searches = 0, relocalisations = 0;
+  size_t localised = 0, searches = 0, relocalisations = 0, odometry = 0;
   long first_fix = -1;
   for (size_t i = 0; i < steps.size(); ++i) {
     const dlo::LocalizationStep& s = steps[i];
     ms.push_back(s.ms);
     localised += s.localised;
+    odometry += s.odometry;
     searches += s.searched;
     if (s.found && first_fix >= 0) ++relocalisations;
     if (s.localised && first_fix < 0) first_fix = static_cast<long>(i);
@@ -159,6 +162,7 @@ Json report(const Arguments& args, const dlo::Localizer& localizer,
   j["localised_scans"] = localised;
   j["searches"] = searches;
   j["relocalisations"] = relocalisations;
+  j["odometry_scans"] = odometry;
   if (first_fix >= 0) {
     j["first_fix"] = {{"scan", first_fix},
                       {"seconds", steps[first_fix].time - steps.front().time},
@@ -240,7 +244,8 @@ int run(const Arguments& args) {
   dlo::metrics::TumWriter trajectory(
       (out / "trajectory.tum").string(),
       "# dlo-localize: timestamp x y z qx qy qz qw in the map's frame\n");
-  std::string csv = "time,localised,searched,found,confidence,rms_m,inliers,x,y,z,yaw_deg,ms\n";
+  std::string csv =
+      "time,localised,searched,found,confidence,rms_m,inliers,x,y,z,yaw_deg,ms,odometry\n";
   std::vector<dlo::LocalizationStep> steps;
   dlo::ProgressBar bar(0, "scans", !args.quiet);
   while (have && !g_stop &&
@@ -250,9 +255,10 @@ int run(const Arguments& args) {
     if (s.localised) trajectory.write(s.time, s.pose);
     const Eigen::Vector3d p = s.pose.translation();
     char line[256];
-    std::snprintf(line, sizeof line, "%.6f,%d,%d,%d,%.3f,%.4f,%.3f,%.4f,%.4f,%.4f,%.3f,%.3f\n",
+    std::snprintf(line, sizeof line, "%.6f,%d,%d,%d,%.3f,%.4f,%.3f,%.4f,%.4f,%.4f,%.3f,%.3f,%d\n",
                   s.time, s.localised, s.searched, s.found, s.confidence, s.rms, s.inliers, p.x(),
-                  p.y(), p.z(), dlo::yawPitchRoll(s.pose.linear()).x() * 180.0 / M_PI, s.ms);
+                  p.y(), p.z(), dlo::yawPitchRoll(s.pose.linear()).x() * 180.0 / M_PI, s.ms,
+                  s.odometry);
     csv += line;
     steps.push_back(s);
     bar.update(steps.size());

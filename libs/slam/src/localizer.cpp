@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <limits>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "dlo/core/deskew.h"
 #include "dlo/core/ground_alignment.h"
@@ -202,30 +203,44 @@ LocalizationStep Localizer::process(double time, const PointCloud& points,
   // It runs before the first fix and from the scan after one that the map did not localise,
   // until the map has localised enough scans in a row to measure the velocity again: its
   // motion bridges the scans the map does not localise.
-  const bool from_map = params_.bridge_only && tracking_ && probation_ == 0 &&
-                        recent_poses_.size() > kVelocityIntervals && dt > 0.0 && dt < 1.0;
+  bool from_map = params_.bridge_only && tracking_ && probation_ == 0 &&
+                  recent_poses_.size() > kVelocityIntervals && dt > 0.0 && dt < 1.0;
   Eigen::Isometry3d moved = expSE3(velocity_ * std::max(dt, 0.0));
   const std::vector<float>* times = nullptr;
+  // The odometry on this scan: its motion since the last scan, its velocity and point times. A
+  // stopped odometry starts afresh, from the previous scan where one was kept (so that it
+  // measures this scan's motion), else from this one (the velocity carries the pose).
+  const auto runOdometry = [&] {
+    if (!odometry_) {
+      odometry_ = std::make_unique<LidarOdometry>(bridgingOdometry(slam_));
+      if (!previous_points_.empty())
+        last_odometry_ = odometry_->process(previous_time_, previous_points_, previous_times_).pose;
+    }
+    const OdometryStep odometry = odometry_->process(time, points, point_times);
+    step.odometry = true;
+    if (odometry_->frames() > 1) {
+      moved = last_odometry_.inverse() * odometry.pose;
+      velocity_ = odometry_->velocity();
+    }
+    last_odometry_ = odometry.pose;
+    times = &odometry_->lastPointTimes();  // estimated once, there
+  };
+  const auto build = [&] {
+    const SweepMotion motion =
+        !times->empty() && scans_ > 0 ? SweepMotion(*times, velocity_) : SweepMotion();
+    current_.build(points, motion, grid_.grid, grid_.selection, grid_.includeGround(),
+                   FrameUse::kCurrentOnly);
+    ground_fitted_ = false;
+  };
   if (from_map) {
     odometry_.reset();
     PointTimeSource source = PointTimeSource::kNone;
     times = &pointTimesFor(points, point_times, slam_.odometry,
                            sweepPeriod(slam_.odometry, period_), estimated_times_, source);
   } else {
-    const bool started = odometry_ != nullptr;
-    if (!started) odometry_ = std::make_unique<LidarOdometry>(bridgingOdometry(slam_));
-    const OdometryStep odometry = odometry_->process(time, points, point_times);
-    // An odometry started at this scan has no motion yet: the last velocity carries the pose.
-    if (started) moved = last_odometry_.inverse() * odometry.pose;
-    last_odometry_ = odometry.pose;
-    if (odometry_->frames() > 1) velocity_ = odometry_->velocity();
-    times = &odometry_->lastPointTimes();  // estimated once, there
+    runOdometry();
   }
-  const SweepMotion motion =
-      !times->empty() && scans_ > 0 ? SweepMotion(*times, velocity_) : SweepMotion();
-  current_.build(points, motion, grid_.grid, grid_.selection, grid_.includeGround(),
-                 FrameUse::kCurrentOnly);
-  ground_fitted_ = false;
+  build();
 
   bool believed = false;
   bool on_probation = probation_ > 0;
@@ -235,6 +250,19 @@ LocalizationStep Localizer::process(double time, const PointCloud& points,
     believed = track(predicted, trackingBound(), step, Start::kPrediction);
     step.correction = (step.pose.translation() - predicted.translation()).norm();
     if (step.correction > params_.max_correction) believed = false;
+    if (!believed && from_map) {
+      // The map's velocity did not carry the vehicle to this scan (a turn began or ended, a
+      // hard stop): the odometry, started again from the previous scan, measures the motion, and
+      // the scan, deskewed with it, is registered again from there.
+      from_map = false;
+      recent_poses_.clear();
+      runOdometry();
+      build();
+      predicted = last_pose_ * moved;
+      believed = track(predicted, trackingBound(), step, Start::kPrediction);
+      step.correction = (step.pose.translation() - predicted.translation()).norm();
+      if (step.correction > params_.max_correction) believed = false;
+    }
     if (!believed && on_probation) {
       // The place a search jumped to does not hold: back to the odometry's own path.
       predicted = fallback_;
@@ -300,6 +328,14 @@ LocalizationStep Localizer::process(double time, const PointCloud& points,
   ++since_search_;
   ++scans_;
   last_time_ = time;
+  // While the odometry is stopped, the scan is kept for it to start from (see runOdometry()).
+  if (!odometry_) {
+    previous_points_ = points;
+    previous_times_ = point_times;
+    previous_time_ = time;
+  } else {
+    previous_points_.clear();
+  }
   step.localised = believed && !(on_probation && probation_ > 0);
   step.fixed = fixed_;
   step.ms = watch.elapsedMs();

@@ -3,7 +3,6 @@
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <algorithm>
-
 #include <string>
 #include <type_traits>
 #include <vector>

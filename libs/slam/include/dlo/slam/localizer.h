@@ -118,6 +118,8 @@ struct LocalizationStep {
   double correction = 0.0;
   /// In [0, 1]: inliers x (1 - rms / max_rms), 0 when not localised.
   double confidence = 0.0;
+  /// The odometry ran on this scan (always, unless LocalizerParams::bridge_only).
+  bool odometry = false;
   double ms = 0.0;  ///< processing time of the scan
 };
 
@@ -214,6 +216,10 @@ class Localizer {
   /// The last localised scans in a row: time and pose (map frame), oldest first.
   std::deque<std::pair<double, Eigen::Isometry3d>> recent_poses_;
   double last_time_ = 0.0;
+  /// While the odometry is stopped: the last scan, for it to start from.
+  PointCloud previous_points_;
+  std::vector<float> previous_times_;
+  double previous_time_ = 0.0;
   SweepPeriodEstimate period_;          ///< the scans' timestamps (estimated per-point times)
   std::vector<float> estimated_times_;  ///< per-point times estimated from azimuths
   size_t scans_ = 0;  ///< processed so far (after the first, there is a velocity to deskew with)
