@@ -78,10 +78,11 @@ std::vector<ParamField<LocalizerParams>> fields() {
             "the search found nothing (parallel streets, a town the map does not hold)"),
       field("bridge_only", &P::bridge_only,
             "true: once the map has localised four scans in a row, the odometry stops and the "
-            "localised poses' velocity predicts and deskews the next scan, the odometry starting "
-            "afresh where the map fails, to bridge (half the time per scan); false: the odometry "
-            "runs beside every scan (sparse sensors: their registrations against the map lean on "
-            "the prediction along streets)"),
+            "localised poses' velocity predicts and deskews the next scan; a scan it does not "
+            "carry is registered again from an odometry started on the previous scan, which then "
+            "bridges (about half the time per scan); false: the odometry runs beside every scan "
+            "(sparse sensors: their registrations against the map lean on the prediction along "
+            "streets)"),
   };
 }
 

@@ -89,8 +89,10 @@ struct LocalizerParams {
   double search_contrast = 1.4;
   double ambiguity_ratio = 1.3;
   /// true: once the map has localised four scans in a row, the odometry stops and the localised
-  /// poses' velocity predicts the next scan and deskews it, until a scan is not localised (the
-  /// odometry then starts afresh and bridges); false: the odometry runs beside every scan. Set
+  /// poses' velocity predicts the next scan and deskews it; a scan it does not carry to a
+  /// believable fit is registered again from an odometry started afresh on the previous scan,
+  /// which then runs until four scans in a row are localised; false: the odometry runs beside
+  /// every scan. Set
   /// by the sensor profile (config/sensors/): true for dense sensors, whose fits against the
   /// map are tight; false for sparse ones, whose registrations against the map lean on the
   /// prediction along streets that the scan's odometry measures better.
