@@ -200,7 +200,7 @@ LocalizationStep Localizer::process(double time, const PointCloud& points,
   // With bridge_only, while the map localises every scan, the localised poses carry the vehicle
   // to the next scan (at 10 Hz a constant velocity is right to centimetres, and the map corrects
   // them): the odometry, which costs as much as the registration against the map, does not run.
-  // It runs before the first fix and from the scan after one that the map did not localise,
+  // It runs before the first fix and from a scan that this prediction did not carry (see below)
   // until the map has localised enough scans in a row to measure the velocity again: its
   // motion bridges the scans the map does not localise.
   bool from_map = params_.bridge_only && tracking_ && probation_ == 0 &&
