@@ -13,7 +13,6 @@
 #include <filesystem>
 #include <limits>
 #include <opencv2/imgproc.hpp>
-#include <optional>
 
 #include "dlo/core/deskew.h"
 #include "dlo/core/ground_alignment.h"

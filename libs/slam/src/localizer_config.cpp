@@ -107,22 +107,7 @@ void splitLocalizerOverrides(const std::vector<std::string>& assignments,
 
 LocalizerParams resolveLocalizerParams(const std::string& profile, const std::string& config_file,
                                        const std::vector<std::string>& sets) {
-  LocalizerParams p;
-  if (!profile.empty()) {
-    bool built_in = false;
-    for (const SensorProfile& s : sensorProfiles()) {
-      if (s.name != profile) continue;
-      mrpt::config::CConfigFileMemory ini(s.ini);
-      p = localizerParamTable().load(ini, "", p);
-      built_in = true;
-    }
-    if (!built_in) {
-      if (profile.find('/') == std::string::npos && profile.find(".ini") == std::string::npos) {
-        sensorProfile(profile);  // throws, naming the profiles there are
-      }
-      p = localizerParamTable().loadFile(profile, "", p);
-    }
-  }
+  LocalizerParams p = applySensorProfile(localizerParamTable(), profile, LocalizerParams());
   if (!config_file.empty()) p = localizerParamTable().loadFile(config_file, "", p);
   std::vector<std::string> slam, localizer;
   splitLocalizerOverrides(sets, slam, localizer);

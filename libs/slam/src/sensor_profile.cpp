@@ -1,7 +1,5 @@
 #include "dlo/slam/sensor_profile.h"
 
-#include <mrpt/config/CConfigFileMemory.h>
-
 #include <algorithm>
 #include <cmath>
 
@@ -92,23 +90,18 @@ SensorProfileChoice chooseSensorProfile(const SensorEvidence& e) {
               "the first scan has " + std::to_string(e.points) + " points and no clear rings");
 }
 
-SlamParams resolveSlamParams(const std::string& profile, const SlamConfigLayers& layers) {
-  SlamParams p;
-  if (!profile.empty()) {
-    bool built_in = false;
-    for (const SensorProfile& s : sensorProfiles()) {
-      if (s.name != profile) continue;
-      mrpt::config::CConfigFileMemory ini(s.ini);
-      p = slamParamTable().load(ini, "", p);
-      built_in = true;
-    }
-    if (!built_in) {
-      if (profile.find('/') == std::string::npos && profile.find(".ini") == std::string::npos) {
-        sensorProfile(profile);  // throws, naming the profiles there are
-      }
-      p = loadSlamParamsFile(profile, p);
-    }
+const SensorProfile* builtInSensorProfile(const std::string& profile) {
+  for (const SensorProfile& s : sensorProfiles()) {
+    if (s.name == profile) return &s;
   }
+  if (profile.find('/') == std::string::npos && profile.find(".ini") == std::string::npos) {
+    sensorProfile(profile);  // throws, naming the profiles there are
+  }
+  return nullptr;
+}
+
+SlamParams resolveSlamParams(const std::string& profile, const SlamConfigLayers& layers) {
+  SlamParams p = applySensorProfile(slamParamTable(), profile, SlamParams());
   if (!layers.config_file.empty()) p = loadSlamParamsFile(layers.config_file, p);
   applySlamParamOverrides(p, layers.sets);
   return p;

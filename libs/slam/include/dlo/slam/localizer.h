@@ -212,8 +212,9 @@ class Localizer {
   /// created again at the first scan that needs it, its own frame starting there.
   std::unique_ptr<LidarOdometry> odometry_;
   Eigen::Isometry3d last_odometry_ = Eigen::Isometry3d::Identity();  ///< odometry frame
-  /// Body twist per second: the odometry's while it runs, else measured between the last two
-  /// localised poses. It deskews the sweep and, while the map localises, predicts the motion.
+  /// Body twist per second: the odometry's while it runs, else measured over recent_poses_
+  /// (kVelocityIntervals intervals). It deskews the sweep and, while the map localises, predicts
+  /// the motion.
   Vector6d velocity_ = Vector6d::Zero();
   /// The last localised scans in a row: time and pose (map frame), oldest first.
   std::deque<std::pair<double, Eigen::Isometry3d>> recent_poses_;

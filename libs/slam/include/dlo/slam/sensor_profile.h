@@ -4,12 +4,15 @@
 /// scan shows; and the layering of a run's configuration (profile, then --config, then --set).
 #pragma once
 
+#include <mrpt/config/CConfigFileMemory.h>
+
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "dlo/core/point_cloud.h"
 #include "dlo/core/ring_count.h"
+#include "dlo/mrpt/param_table.h"
 #include "dlo/slam/slam_params.h"
 
 namespace dlo {
@@ -25,6 +28,24 @@ const std::vector<SensorProfile>& sensorProfiles();
 
 /// The profile named `name`. \throws InputError listing the names when there is none.
 const SensorProfile& sensorProfile(const std::string& name);
+
+/// The built-in profile `profile` names, or nullptr when `profile` is the path of a profile file
+/// (it holds a '/' or ".ini"). \throws InputError listing the names for any other unknown name.
+const SensorProfile* builtInSensorProfile(const std::string& profile);
+
+/// `params` with the sections of `table` that the sensor profile `profile` sets (a built-in
+/// name or a profile file's path; empty: none) applied, validated. Every parameter struct a
+/// profile configures (SlamParams, LocalizerParams) is layered through this.
+/// \throws InputError naming the file or profile and the key.
+template <typename P>
+P applySensorProfile(const ParamTable<P>& table, const std::string& profile, const P& params) {
+  if (profile.empty()) return params;
+  if (const SensorProfile* s = builtInSensorProfile(profile)) {
+    const mrpt::config::CConfigFileMemory ini(s->ini);
+    return table.load(ini, "", params);
+  }
+  return table.loadFile(profile, "", params);
+}
 
 /// Spinning sensors with fewer rings than this get the "sparse" profile.
 constexpr int kSparseRings = 48;
