@@ -16,6 +16,7 @@
 
 #include "dlo/app/app_main.h"
 #include "dlo/app/program_options.h"
+#include "dlo/app/scan_input_options.h"
 #include "dlo/bench/bench_table.h"
 #include "dlo/bench/method_registry.h"
 #include "dlo/bench/method_run.h"
@@ -83,8 +84,7 @@ struct Arguments {
   long max_frames = -1;
   long max_frames_slow = 100;
   long repeat = 1;
-  double min_range = 2.0;
-  double max_range = 120.0;
+  dlo::ScanInputOptions scans;  // the ranges; --max-frames is the benchmark's own
   bool quiet = false;
 };
 
@@ -157,9 +157,7 @@ std::optional<Arguments> parseArguments(int argc, char** argv) {
           "at most N scans for the slow methods (icp, ndt, gicp)")
       .valueName("N")
       .defaultText("100");
-  cl.number("--min-range", a.min_range, "drop points closer than M metres to the sensor")
-      .valueName("M");
-  cl.number("--max-range", a.max_range, "drop points farther than M metres").valueName("M");
+  dlo::declareScanInputOptions(cl, a.scans, dlo::kScanRange);
   cl.text("--repeat", repeat,
           "run every method N times, in N rounds that each run every method once, so that all "
           "of them are timed under the machine's load of the whole benchmark; a scan's time is "
@@ -175,9 +173,7 @@ std::optional<Arguments> parseArguments(int argc, char** argv) {
     a.max_frames_slow = toCount("--max-frames-slow", max_frames_slow);
   }
   if (cl.given("--repeat")) a.repeat = toCount("--repeat", repeat, "runs");
-  if (!(a.min_range >= 0.0 && a.max_range > a.min_range)) {
-    throw UsageError{"--min-range and --max-range must satisfy 0 <= min < max."};
-  }
+  dlo::checkScanInputOptions(a.scans);
   if (methods.empty()) {
     for (const auto& m : dlo::bench::availableMethods()) a.methods.push_back(&m);
   } else {
@@ -340,8 +336,8 @@ int run(const Arguments& args, const std::string& command) {
     throw dlo::InputError("input '" + args.input + "' is a folder, expected an MRPT rawlog.");
   }
   dlo::ScanSourceOptions options;
-  options.min_range = args.min_range;
-  options.max_range = args.max_range;
+  options.min_range = args.scans.min_range;
+  options.max_range = args.scans.max_range;
   { dlo::RawlogScanSource check(args.input, options); }  // names the file if it is not a rawlog
   std::error_code ec;
   fs::create_directories(args.out, ec);

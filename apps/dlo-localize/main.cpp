@@ -14,6 +14,7 @@
 #include "dlo/app/app_main.h"
 #include "dlo/app/program_options.h"
 #include "dlo/app/progress_bar.h"
+#include "dlo/app/scan_input_options.h"
 #include "dlo/core/rigid_transform.h"
 #include "dlo/files/atomic_file.h"
 #include "dlo/files/error.h"
@@ -58,10 +59,9 @@ using dlo::UsageError;
 using Json = nlohmann::ordered_json;
 
 struct Arguments {
-  std::string map, input, out, init, gt, config, model, sensor_label, sensor_profile = "auto";
+  std::string map, input, out, init, gt, config, sensor_profile = "auto";
   std::vector<std::string> sets;
-  double min_range = 2.0, max_range = 120.0;
-  long max_frames = -1;
+  dlo::ScanInputOptions scans;
   bool quiet = false, dump_config = false;
   std::optional<Eigen::Isometry3d> initial_pose;
 };
@@ -93,13 +93,7 @@ std::optional<Arguments> parseArguments(int argc, char** argv) {
       .valueName("section.key=value");
   cl.text("--sensor-profile", a.sensor_profile, "as dlo-slam's")
       .valueName("auto|dense|sparse|FILE");
-  cl.text("--model", a.model, "the Velodyne model of a .pcap input").valueName("VLP16|HDL32|HDL64");
-  cl.text("--sensor-label", a.sensor_label, "only observations with this sensor label")
-      .valueName("L");
-  cl.number("--min-range", a.min_range, "drop points closer than M metres to the sensor")
-      .valueName("M");
-  cl.number("--max-range", a.max_range, "drop points farther than M metres").valueName("M");
-  cl.wholeNumber("--max-frames", a.max_frames, "stop after N scans (-1: all)").valueName("N");
+  dlo::declareScanInputOptions(cl, a.scans, dlo::kScanAll);
   cl.flag("--quiet", a.quiet, "no progress bar");
   cl.flag("--dump-config", a.dump_config,
           "print the effective configuration as INI ([localizer], then dlo-slam's sections; "
@@ -110,9 +104,7 @@ std::optional<Arguments> parseArguments(int argc, char** argv) {
   if (a.map.empty()) throw UsageError{"--map is required (see --help)."};
   if (a.input.empty()) throw UsageError{"--input is required (see --help)."};
   if (a.out.empty()) throw UsageError{"--out is required (see --help)."};
-  if (!(a.min_range >= 0.0 && a.max_range > a.min_range)) {
-    throw UsageError{"--min-range and --max-range must satisfy 0 <= min < max."};
-  }
+  dlo::checkScanInputOptions(a.scans);
   if (!a.init.empty()) {
     std::istringstream in(a.init);
     double x = 0.0, y = 0.0, yaw = 0.0;
@@ -215,11 +207,9 @@ int run(const Arguments& args) {
     }
   }
   dlo::PriorMap map = dlo::loadPriorMap(args.map);
-  dlo::ScanSourceOptions options;
-  options.min_range = args.min_range;
-  options.max_range = args.max_range;
-  options.sensor_label = args.sensor_label;
-  std::unique_ptr<dlo::ScanSource> source = dlo::openScanSource(args.input, args.model, options);
+  std::unique_ptr<dlo::ScanSource> source = dlo::openScanSource(
+      args.input, args.scans.model,
+      dlo::ScanSourceOptions{args.scans.min_range, args.scans.max_range, args.scans.sensor_label});
   std::error_code ec;
   std::filesystem::create_directories(args.out, ec);
   if (!std::filesystem::is_directory(args.out)) {
@@ -249,7 +239,7 @@ int run(const Arguments& args) {
   std::vector<dlo::LocalizationStep> steps;
   dlo::ProgressBar bar(0, "scans", !args.quiet);
   while (have && !g_stop &&
-         (args.max_frames < 0 || static_cast<long>(steps.size()) < args.max_frames)) {
+         (args.scans.max_frames < 0 || static_cast<long>(steps.size()) < args.scans.max_frames)) {
     const dlo::LocalizationStep s =
         localizer.process(scan.timestampSeconds(), scan.points, scan.point_times);
     if (s.localised) trajectory.write(s.time, s.pose);

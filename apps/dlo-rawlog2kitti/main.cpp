@@ -1,12 +1,14 @@
 // dlo-rawlog2kitti: writes the scans of an MRPT rawlog as a KITTI odometry sequence folder (and
 // the ground truth as its poses.txt), for programs that read KITTI folders.
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <string>
 
 #include "dlo/app/app_main.h"
 #include "dlo/app/program_options.h"
 #include "dlo/app/progress_bar.h"
+#include "dlo/app/scan_input_options.h"
 #include "dlo/files/error.h"
 #include "dlo/mrpt/kitti_conversion.h"
 
@@ -38,8 +40,7 @@ using dlo::UsageError;
 
 struct Arguments {
   std::string rawlog, out, gt;
-  long max_frames = -1;
-  dlo::ScanSourceOptions options;
+  dlo::ScanInputOptions scans;
   bool quiet = false;
 };
 
@@ -51,29 +52,25 @@ std::optional<Arguments> parseArguments(int argc, char** argv) {
   cl.positional("OUT_DIR", a.out, "the KITTI folder to write (see below)").required();
   cl.text("--gt", a.gt, "TUM ground truth of IN (\"t x y z qx qy qz qw\"), written as poses.txt")
       .valueName("FILE");
-  cl.wholeNumber("--max-frames", a.max_frames, "only the first N scans (-1: all)").valueName("N");
-  cl.number("--min-range", a.options.min_range, "drop points closer than M metres to the sensor")
-      .valueName("M");
-  cl.number("--max-range", a.options.max_range, "drop points farther than M metres").valueName("M");
+  // Every point by default: the folder is a copy of the rawlog's scans.
+  a.scans.min_range = 0.0;
+  a.scans.max_range = std::numeric_limits<double>::infinity();
+  dlo::declareScanInputOptions(cl, a.scans, dlo::kScanMaxFrames | dlo::kScanRange);
   cl.flag("--quiet", a.quiet, "no progress and no summary");
   cl.footer(kFooter);
   if (!cl.parse(argc, argv)) return std::nullopt;
   if (cl.given("--gt") && a.gt.empty()) throw UsageError{"--gt needs a file name."};
-  if (cl.given("--max-frames") && a.max_frames < 1) {
-    throw UsageError{"--max-frames expects a whole number of scans >= 1."};
-  }
-  if (!(a.options.min_range >= 0.0 && a.options.max_range > a.options.min_range)) {
-    throw UsageError{"--min-range and --max-range must satisfy 0 <= min < max."};
-  }
+  dlo::checkScanInputOptions(a.scans);
   return a;
 }
 
 int run(const Arguments& args) {
-  dlo::ProgressBar bar(args.max_frames > 0 ? static_cast<size_t>(args.max_frames) : 0, "scans",
-                       !args.quiet);
-  const dlo::RawlogToKittiResult r =
-      dlo::convertRawlogToKitti(args.rawlog, args.out, args.gt, args.options, args.max_frames,
-                                [&](size_t done) { bar.update(done); });
+  dlo::ProgressBar bar(args.scans.max_frames > 0 ? static_cast<size_t>(args.scans.max_frames) : 0,
+                       "scans", !args.quiet);
+  const dlo::RawlogToKittiResult r = dlo::convertRawlogToKitti(
+      args.rawlog, args.out, args.gt,
+      dlo::ScanSourceOptions{args.scans.min_range, args.scans.max_range, {}}, args.scans.max_frames,
+      [&](size_t done) { bar.update(done); });
   bar.finish(r.scans);
   if (!args.quiet) {
     std::cout << "wrote " << r.scans << " scans (" << r.points << " points) to '" << args.out

@@ -14,6 +14,7 @@
 #include "dlo/app/app_main.h"
 #include "dlo/app/program_options.h"
 #include "dlo/app/progress_bar.h"
+#include "dlo/app/scan_input_options.h"
 #include "dlo/core/deskew.h"
 #include "dlo/export/annotated_rawlog.h"
 #include "dlo/export/export_all.h"
@@ -75,11 +76,9 @@ void onSignal(int) {
 using dlo::UsageError;
 
 struct Arguments {
-  std::string input, out, config, gt, model, sensor_label, sensor_profile = "auto", rawlog_out;
+  std::string input, out, config, gt, sensor_profile = "auto", rawlog_out;
   std::vector<std::string> sets;
-  double min_range = 2.0;
-  double max_range = 120.0;
-  long max_frames = -1;
+  dlo::ScanInputOptions scans;
   double obstacle_height = dlo::OccupancyGridOptions().obstacle_height;
   bool quiet = false, dump_config = false;
 };
@@ -107,14 +106,7 @@ std::optional<Arguments> parseArguments(int argc, char** argv) {
       .valueName("auto|dense|sparse|FILE");
   cl.text("--gt", a.gt, "ground truth (TUM or KITTI poses) for report.json's accuracy")
       .valueName("FILE");
-  cl.text("--model", a.model, "the Velodyne model of a .pcap input").valueName("VLP16|HDL32|HDL64");
-  cl.text("--sensor-label", a.sensor_label, "only observations with this sensor label")
-      .valueName("L");
-  cl.number("--min-range", a.min_range,
-            "drop points closer than M metres to the sensor (the vehicle)")
-      .valueName("M");
-  cl.number("--max-range", a.max_range, "drop points farther than M metres").valueName("M");
-  cl.wholeNumber("--max-frames", a.max_frames, "stop after N scans (-1: all)").valueName("N");
+  dlo::declareScanInputOptions(cl, a.scans, dlo::kScanAll);
   cl.number("--obstacle-height", a.obstacle_height,
             "metres above the local ground from which a point makes its cell an obstacle in "
             "map.gridmap (kerbs stay free)")
@@ -131,9 +123,7 @@ std::optional<Arguments> parseArguments(int argc, char** argv) {
   if (a.dump_config) return a;
   if (a.input.empty()) throw UsageError{"--input is required (see --help)."};
   if (a.out.empty()) throw UsageError{"--out is required (see --help)."};
-  if (!(a.min_range >= 0.0 && a.max_range > a.min_range)) {
-    throw UsageError{"--min-range and --max-range must satisfy 0 <= min < max."};
-  }
+  dlo::checkScanInputOptions(a.scans);
   const dlo::OccupancyGridOptions occupancy;
   if (!(a.obstacle_height > 0.0 && a.obstacle_height < occupancy.max_height)) {
     throw UsageError{"--obstacle-height must be above 0 and below " +
@@ -143,11 +133,9 @@ std::optional<Arguments> parseArguments(int argc, char** argv) {
 }
 
 std::unique_ptr<dlo::ScanSource> openSource(const Arguments& a) {
-  dlo::ScanSourceOptions options;
-  options.min_range = a.min_range;
-  options.max_range = a.max_range;
-  options.sensor_label = a.sensor_label;
-  return dlo::openScanSource(a.input, a.model, options);
+  return dlo::openScanSource(
+      a.input, a.scans.model,
+      dlo::ScanSourceOptions{a.scans.min_range, a.scans.max_range, a.scans.sensor_label});
 }
 
 /// The velocity (body twist per second) of frame i of `map`, from its final pose and its
@@ -264,7 +252,8 @@ int run(const Arguments& args) {
   dlo::ProgressBar bar(0, "scans", !args.quiet);
   size_t frames = 0;
   const auto more = [&] {
-    return !g_stop && (args.max_frames < 0 || static_cast<long>(frames) < args.max_frames);
+    return !g_stop &&
+           (args.scans.max_frames < 0 || static_cast<long>(frames) < args.scans.max_frames);
   };
   const auto process = [&](const dlo::TimedScan& s) {
     slam.process(s.timestampSeconds(), s.points, s.point_times);

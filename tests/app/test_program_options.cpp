@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "dlo/app/app_main.h"
+#include "dlo/app/scan_input_options.h"
 
 namespace dlo {
 namespace {
@@ -19,8 +20,9 @@ namespace {
 /// argv for `args`, with a program name in front; the strings live as long as the object.
 class Argv {
  public:
-  Argv(std::initializer_list<std::string> args) : strings_{"prog"} {
-    strings_.insert(strings_.end(), args);
+  Argv(std::initializer_list<std::string> args) : Argv(std::vector<std::string>(args)) {}
+  explicit Argv(const std::vector<std::string>& args) : strings_{"prog"} {
+    strings_.insert(strings_.end(), args.begin(), args.end());
     for (std::string& s : strings_) pointers_.push_back(s.data());
     pointers_.push_back(nullptr);
   }
@@ -217,6 +219,75 @@ TEST(ProgramOptions, LongHelpIsWrappedToOneHundredColumns) {
   EXPECT_NE(help.find("word59"), std::string::npos) << help;
   std::istringstream lines(help);
   for (std::string line; std::getline(lines, line);) EXPECT_LE(line.size(), 100u) << line;
+}
+
+/// A program reading a drive, with the shared scan options in `which`: its status, stderr and
+/// what it parsed.
+struct ScanRun {
+  int status = -1;
+  std::string err, help;
+  ScanInputOptions parsed;
+};
+
+ScanRun runScans(unsigned which, const std::vector<std::string>& args) {
+  Argv a(args);
+  ScanRun r;
+  testing::internal::CaptureStdout();
+  testing::internal::CaptureStderr();
+  r.status = runApp("prog", [&] {
+    ProgramOptions cl("prog", "Reads a drive.");
+    declareScanInputOptions(cl, r.parsed, which);
+    if (!cl.parse(a.argc(), a.argv())) return 0;
+    checkScanInputOptions(r.parsed);
+    return 0;
+  });
+  r.help = testing::internal::GetCapturedStdout();
+  r.err = testing::internal::GetCapturedStderr();
+  return r;
+}
+
+TEST(ScanInputOptions, DeclaredOnceForEveryProgramThatReadsADrive) {
+  const ScanRun r =
+      runScans(kScanAll, {"--model", "VLP16", "--sensor-label", "lidar", "--min-range", "1.5",
+                          "--max-range", "80", "--max-frames", "25"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.parsed.model, "VLP16");
+  EXPECT_EQ(r.parsed.sensor_label, "lidar");
+  EXPECT_DOUBLE_EQ(r.parsed.min_range, 1.5);
+  EXPECT_DOUBLE_EQ(r.parsed.max_range, 80.0);
+  EXPECT_EQ(r.parsed.max_frames, 25);
+  // The defaults, and --help showing them.
+  const ScanRun d = runScans(kScanAll, {});
+  ASSERT_EQ(d.status, 0);
+  EXPECT_DOUBLE_EQ(d.parsed.min_range, 2.0);
+  EXPECT_DOUBLE_EQ(d.parsed.max_range, 120.0);
+  EXPECT_EQ(d.parsed.max_frames, -1);
+  const ScanRun h = runScans(kScanAll, {"--help"});
+  EXPECT_NE(h.help.find("--min-range M=2"), std::string::npos) << h.help;
+  EXPECT_NE(h.help.find("--max-frames N=-1"), std::string::npos) << h.help;
+}
+
+TEST(ScanInputOptions, AProgramTakesOnlyTheOnesItDeclares) {
+  const ScanRun r = runScans(kScanRange, {"--model", "VLP16"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--model"), std::string::npos) << r.err;
+  const ScanRun h = runScans(kScanRange | kScanMaxFrames, {"--help"});
+  EXPECT_EQ(h.help.find("--sensor-label"), std::string::npos) << h.help;
+  EXPECT_NE(h.help.find("--max-frames"), std::string::npos) << h.help;
+}
+
+TEST(ScanInputOptions, RangesAndScanCountsOutOfRangeAreNamed) {
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"--min-range", "-1"}, {"--max-range", "1"}, {"--min-range", "5", "--max-range", "5"}}) {
+    const ScanRun r = runScans(kScanAll, args);
+    EXPECT_EQ(r.status, 2) << args[0];
+    EXPECT_EQ(r.err, "prog: --min-range and --max-range must satisfy 0 <= min < max.\n");
+  }
+  for (const std::string n : {"0", "-2"}) {
+    const ScanRun r = runScans(kScanAll, {"--max-frames", n});
+    EXPECT_EQ(r.status, 2) << n;
+    EXPECT_EQ(r.err, "prog: --max-frames expects a whole number of scans >= 1, or -1 for all.\n");
+  }
 }
 
 }  // namespace
