@@ -187,16 +187,20 @@ TEST(LocalizerConfig, ABadValueOrKeyIsOneSentenceNamingTheKey) {
 }
 
 TEST(LocalizerConfig, TheSensorProfileSetsItsKeysBeneathTheFileAndTheOverrides) {
-  // The dense profile is the defaults; the sparse one runs the odometry beside every scan.
+  // The dense profile is the defaults; the sparse one runs the odometry beside every scan and
+  // believes corrections up to 0.75 m.
   EXPECT_EQ(localizerParamsToIni(resolveLocalizerParams("dense", "", {})),
             localizerParamsToIni(LocalizerParams()));
   EXPECT_TRUE(LocalizerParams().bridge_only);
   EXPECT_FALSE(resolveLocalizerParams("sparse", "", {}).bridge_only);
   EXPECT_TRUE(resolveLocalizerParams("sparse", "", {"localizer.bridge_only=true"}).bridge_only);
+  EXPECT_DOUBLE_EQ(LocalizerParams().max_correction, 0.5);
+  EXPECT_DOUBLE_EQ(resolveLocalizerParams("sparse", "", {}).max_correction, 0.75);
   const fs::path file =
       fs::path(DLO_SOURCE_DIR) / "config" / "sensors" / "sparse.ini";  // a profile by its path
   EXPECT_FALSE(resolveLocalizerParams(file.string(), "", {}).bridge_only);
-  EXPECT_EQ(localizerProfileKeys(), std::vector<std::string>{"localizer.bridge_only"});
+  EXPECT_EQ(localizerProfileKeys(),
+            (std::vector<std::string>{"localizer.max_correction", "localizer.bridge_only"}));
   EXPECT_THROW(resolveLocalizerParams("medium", "", {}), InputError);
 }
 
