@@ -262,6 +262,30 @@ LocalizationStep Localizer::process(double time, const PointCloud& points,
       step.correction = (step.pose.translation() - predicted.translation()).norm();
       if (step.correction > params_.max_correction) believed = false;
     }
+    if (!believed && !from_map && recent_poses_.size() > kVelocityIntervals && dt > 0.0 &&
+        dt < 1.0) {
+      // The odometry's motion did not carry the vehicle to a believable fit, though the map has
+      // localised the last scans in a row: the motion those measure is a second start, and the
+      // scan is deskewed with it. A sparse odometry can jump: a simulated VLP-16 patrol's moved
+      // 4.7 m in one scan after a turn on the spot, and its next scans were lost until a search.
+      const auto& [t0, p0] = recent_poses_.front();
+      const Vector6d odometry_velocity = velocity_;
+      velocity_ = logSE3(p0.inverse() * last_pose_) / (last_time_ - t0);
+      build();
+      const Eigen::Isometry3d by_map = last_pose_ * expSE3(velocity_ * dt);
+      LocalizationStep retry = step;
+      if (track(by_map, trackingBound(), retry, Start::kPrediction)) {
+        retry.correction = (retry.pose.translation() - by_map.translation()).norm();
+        believed = retry.correction <= params_.max_correction;
+      }
+      if (believed) {
+        step = retry;
+        predicted = by_map;
+      } else {
+        velocity_ = odometry_velocity;
+        build();
+      }
+    }
     if (!believed && on_probation) {
       // The place a search jumped to does not hold: back to the odometry's own path.
       predicted = fallback_;
