@@ -240,8 +240,8 @@ int run(const Arguments& args) {
   dlo::ProgressBar bar(0, "scans", !args.quiet);
   while (have && !g_stop &&
          (args.scans.max_frames < 0 || static_cast<long>(steps.size()) < args.scans.max_frames)) {
-    const dlo::LocalizationStep s =
-        localizer.process(scan.timestampSeconds(), scan.points, scan.point_times);
+    const dlo::LocalizationStep s = localizer.process(
+        scan.timestampSeconds(), std::move(scan.points), std::move(scan.point_times));
     if (s.localised) trajectory.write(s.time, s.pose);
     const Eigen::Vector3d p = s.pose.translation();
     char line[256];

@@ -191,6 +191,17 @@ void Localizer::setInitialPose(const Eigen::Isometry3d& pose) {
 
 LocalizationStep Localizer::process(double time, const PointCloud& points,
                                     const std::vector<float>& point_times) {
+  return processScan(time, points, point_times, nullptr, nullptr);
+}
+
+LocalizationStep Localizer::process(double time, PointCloud&& points,
+                                    std::vector<float>&& point_times) {
+  return processScan(time, points, point_times, &points, &point_times);
+}
+
+LocalizationStep Localizer::processScan(double time, const PointCloud& points,
+                                        const std::vector<float>& point_times, PointCloud* owned,
+                                        std::vector<float>* owned_times) {
   Stopwatch watch;
   LocalizationStep step;
   step.time = time;
@@ -353,8 +364,14 @@ LocalizationStep Localizer::process(double time, const PointCloud& points,
   last_time_ = time;
   // While the odometry is stopped, the scan is kept for it to start from (see runOdometry()).
   if (!odometry_) {
-    previous_points_ = points;
-    previous_times_ = point_times;
+    if (owned != nullptr) {
+      // Swapped, not copied (a dense sweep is 1.5 MB): the caller refills the old buffers.
+      previous_points_.swap(*owned);
+      previous_times_.swap(*owned_times);
+    } else {
+      previous_points_ = points;
+      previous_times_ = point_times;
+    }
     previous_time_ = time;
   } else {
     previous_points_.clear();

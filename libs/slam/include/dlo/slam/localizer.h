@@ -156,11 +156,20 @@ class Localizer {
   /// Processes one scan (vehicle frame; `point_times` as LidarOdometry::process).
   LocalizationStep process(double time, const PointCloud& points,
                            const std::vector<float>& point_times);
+  /// The same, taking the scan over: where the odometry may have to start from it (while the
+  /// odometry is stopped, every scan) it is kept without a copy, and `points` and `point_times`
+  /// are left holding an earlier scan's buffers, for the caller to refill.
+  LocalizationStep process(double time, PointCloud&& points, std::vector<float>&& point_times);
 
   const PriorMap& map() const { return map_; }
   const LocalizerParams& params() const { return params_; }
 
  private:
+  /// process(); `owned` and `owned_times`, when given, are `points` and `point_times` themselves,
+  /// which the scan may be swapped out of.
+  LocalizationStep processScan(double time, const PointCloud& points,
+                               const std::vector<float>& point_times, PointCloud* owned,
+                               std::vector<float>* owned_times);
   /// Where a registration against the map starts.
   enum class Start {
     kPrediction,  ///< the odometry's prediction: its z, roll and pitch carried, tracking levels
