@@ -62,8 +62,9 @@ struct LocalizerParams {
   double rms_ratio = 1.5;
   double max_rms = 1.0;
   /// ... and it moved the pose at most this far (metres) from the prediction: from one scan to
-  /// the next the prediction is right to centimetres, and a registration that jumps by more has
-  /// found another basin.
+  /// the next a dense sensor's prediction is right to centimetres, and a registration that
+  /// jumps by more has found another basin. A sensor profile key: a sparse scan's fit, and so
+  /// the prediction made from it, scatters by tenths of a metre (sparse.ini: 0.75).
   double max_correction = 0.5;
   /// Tracking from a prediction (or a place a search found) uses the pyramid's levels up to
   /// this cell size (metres); a search from the keyframes uses every level (up to 1.6 m). The
@@ -140,8 +141,9 @@ void writeLocalizationImage(const PriorMap& map, const std::vector<LocalizationS
 /// With no initial pose the first scans search the whole map (every keyframe, every heading,
 /// registered at full resolution, accepted only if one place clearly fits best); then each scan is
 /// registered against the height map around its predicted pose, its z, roll and pitch from the
-/// ground. A scan that does not fit the map well keeps the odometry's pose and is reported as not
-/// localised; after a few in a row the search runs again.
+/// ground; where the odometry's prediction does not lead to a believable fit, the motion the last
+/// localised scans measure is a second start. A scan that does not fit the map well keeps the
+/// odometry's pose and is reported as not localised; after a few in a row the search runs again.
 class Localizer {
  public:
   /// \param slam the parameters of the odometry that runs beside (and of the registrations
