@@ -135,7 +135,7 @@ TEST(LocalizerConfig, TheShippedFileIsGeneratedFromTheTableAndHoldsTheDefaults) 
       resolveLocalizerParams("", std::string(DLO_SOURCE_DIR) + "/config/dlo-localize.ini", {});
   EXPECT_EQ(localizerParamsToIni(loaded), localizerParamsToIni(LocalizerParams()));
   // The profile's key is commented out, with the dense profile's value (the default).
-  EXPECT_NE(localizerConfigFileText().find("\n;bridge_only = true\n"), std::string::npos);
+  EXPECT_NE(localizerConfigFileText().find("\n;max_correction = 0.5\n"), std::string::npos);
   for (const ParamField<LocalizerParams>& f : localizerParamTable().fields())
     EXPECT_NE(parameterReferenceMarkdown().find("| `" + f.key + "` |"), std::string::npos) << f.key;
 }
@@ -187,20 +187,18 @@ TEST(LocalizerConfig, ABadValueOrKeyIsOneSentenceNamingTheKey) {
 }
 
 TEST(LocalizerConfig, TheSensorProfileSetsItsKeysBeneathTheFileAndTheOverrides) {
-  // The dense profile is the defaults; the sparse one runs the odometry beside every scan and
-  // believes corrections up to 0.75 m.
+  // The dense profile is the defaults; the sparse one believes corrections up to 0.75 m. Both
+  // stop the odometry where the map localises (bridge_only, the default).
   EXPECT_EQ(localizerParamsToIni(resolveLocalizerParams("dense", "", {})),
             localizerParamsToIni(LocalizerParams()));
-  EXPECT_TRUE(LocalizerParams().bridge_only);
-  EXPECT_FALSE(resolveLocalizerParams("sparse", "", {}).bridge_only);
-  EXPECT_TRUE(resolveLocalizerParams("sparse", "", {"localizer.bridge_only=true"}).bridge_only);
+  EXPECT_TRUE(resolveLocalizerParams("sparse", "", {}).bridge_only);
+  EXPECT_FALSE(resolveLocalizerParams("sparse", "", {"localizer.bridge_only=false"}).bridge_only);
   EXPECT_DOUBLE_EQ(LocalizerParams().max_correction, 0.5);
   EXPECT_DOUBLE_EQ(resolveLocalizerParams("sparse", "", {}).max_correction, 0.75);
   const fs::path file =
       fs::path(DLO_SOURCE_DIR) / "config" / "sensors" / "sparse.ini";  // a profile by its path
-  EXPECT_FALSE(resolveLocalizerParams(file.string(), "", {}).bridge_only);
-  EXPECT_EQ(localizerProfileKeys(),
-            (std::vector<std::string>{"localizer.max_correction", "localizer.bridge_only"}));
+  EXPECT_DOUBLE_EQ(resolveLocalizerParams(file.string(), "", {}).max_correction, 0.75);
+  EXPECT_EQ(localizerProfileKeys(), std::vector<std::string>{"localizer.max_correction"});
   EXPECT_THROW(resolveLocalizerParams("medium", "", {}), InputError);
 }
 

@@ -80,9 +80,8 @@ std::vector<ParamField<LocalizerParams>> fields() {
             "true: once the map has localised four scans in a row, the odometry stops and the "
             "localised poses' velocity predicts and deskews the next scan; a scan it does not "
             "carry is registered again from an odometry started on the previous scan, which then "
-            "bridges (about half the time per scan); false: the odometry runs beside every scan "
-            "(sparse sensors: their registrations against the map lean on the prediction along "
-            "streets)"),
+            "bridges (a half to a third of the time per scan); false: the odometry runs beside "
+            "every scan"),
   };
 }
 

@@ -93,10 +93,8 @@ struct LocalizerParams {
   /// poses' velocity predicts the next scan and deskews it; a scan it does not carry to a
   /// believable fit is registered again from an odometry started afresh on the previous scan,
   /// which then runs until four scans in a row are localised; false: the odometry runs beside
-  /// every scan. Set
-  /// by the sensor profile (config/sensors/): true for dense sensors, whose fits against the
-  /// map are tight; false for sparse ones, whose registrations against the map lean on the
-  /// prediction along streets that the scan's odometry measures better.
+  /// every scan (two to three times the time per scan; on the simulated drives of
+  /// docs/benchmarks.md, dense and sparse, no more scans localised).
   bool bridge_only = true;
 
   /// An empty string if every value is in range, else one sentence naming the key
@@ -135,8 +133,8 @@ void writeLocalizationImage(const PriorMap& map, const std::vector<LocalizationS
 
 /// Localises scans, one at a time, on a PriorMap. A LidarOdometry runs beside it: its motion
 /// since the last scan predicts the pose on the map (and carries it over the scans the map does
-/// not localise), and its velocity deskews the sweep. With LocalizerParams::bridge_only (dense
-/// sensors), it runs only where the map has not localised the last scans: elsewhere the
+/// not localise), and its velocity deskews the sweep. With LocalizerParams::bridge_only (the
+/// default), it runs only where the map has not localised the last scans: elsewhere the
 /// localised poses' velocity predicts the next pose and deskews the sweep.
 /// With no initial pose the first scans search the whole map (every keyframe, every heading,
 /// registered at full resolution, accepted only if one place clearly fits best); then each scan is
