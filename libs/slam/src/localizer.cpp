@@ -254,12 +254,16 @@ LocalizationStep Localizer::processScan(double time, const PointCloud& points,
 
   bool believed = false;
   bool on_probation = probation_ > 0;
+  // Tracked from `from`: believed when the fit is and it moved the pose at most max_correction.
+  const auto trackFrom = [&](const Eigen::Isometry3d& from, LocalizationStep& s) {
+    const bool ok = track(from, trackingBound(), s, Start::kPrediction);
+    s.correction = (s.pose.translation() - from.translation()).norm();
+    return ok && s.correction <= params_.max_correction;
+  };
   if (tracking_) {
     Eigen::Isometry3d predicted = last_pose_ * moved;
     if (on_probation) fallback_ = fallback_ * moved;
-    believed = track(predicted, trackingBound(), step, Start::kPrediction);
-    step.correction = (step.pose.translation() - predicted.translation()).norm();
-    if (step.correction > params_.max_correction) believed = false;
+    believed = trackFrom(predicted, step);
     if (!believed && from_map) {
       // The map's velocity did not carry the vehicle to this scan (a turn began or ended, a
       // hard stop): the odometry, started again from the previous scan, measures the motion, and
@@ -269,9 +273,7 @@ LocalizationStep Localizer::processScan(double time, const PointCloud& points,
       runOdometry();
       build();
       predicted = last_pose_ * moved;
-      believed = track(predicted, trackingBound(), step, Start::kPrediction);
-      step.correction = (step.pose.translation() - predicted.translation()).norm();
-      if (step.correction > params_.max_correction) believed = false;
+      believed = trackFrom(predicted, step);
     }
     if (!believed && !from_map && recent_poses_.size() > kVelocityIntervals && dt > 0.0 &&
         dt < 1.0) {
@@ -279,16 +281,12 @@ LocalizationStep Localizer::processScan(double time, const PointCloud& points,
       // localised the last scans in a row: the motion those measure is a second start, and the
       // scan is deskewed with it. A sparse odometry can jump: a simulated VLP-16 patrol's moved
       // 4.7 m in one scan after a turn on the spot, and its next scans were lost until a search.
-      const auto& [t0, p0] = recent_poses_.front();
       const Vector6d odometry_velocity = velocity_;
-      velocity_ = logSE3(p0.inverse() * last_pose_) / (last_time_ - t0);
+      velocity_ = recentVelocity();
       build();
       const Eigen::Isometry3d by_map = last_pose_ * expSE3(velocity_ * dt);
       LocalizationStep retry = step;
-      if (track(by_map, trackingBound(), retry, Start::kPrediction)) {
-        retry.correction = (retry.pose.translation() - by_map.translation()).norm();
-        believed = retry.correction <= params_.max_correction;
-      }
+      believed = trackFrom(by_map, retry);
       if (believed) {
         step = retry;
         predicted = by_map;
@@ -341,10 +339,7 @@ LocalizationStep Localizer::processScan(double time, const PointCloud& points,
     if (step.found) recent_poses_.clear();
     recent_poses_.emplace_back(time, step.pose);
     if (recent_poses_.size() > kVelocityIntervals + 1) recent_poses_.pop_front();
-    if (from_map) {
-      const auto& [t0, p0] = recent_poses_.front();
-      velocity_ = logSE3(p0.inverse() * step.pose) / (time - t0);
-    }
+    if (from_map) velocity_ = recentVelocity();
     tracking_ = true;
     fixed_ = true;
     unlocalised_run_ = 0;
@@ -380,6 +375,12 @@ LocalizationStep Localizer::processScan(double time, const PointCloud& points,
   step.fixed = fixed_;
   step.ms = watch.elapsedMs();
   return step;
+}
+
+Vector6d Localizer::recentVelocity() const {
+  const auto& [t0, p0] = recent_poses_.front();
+  const auto& [t1, p1] = recent_poses_.back();
+  return logSE3(p0.inverse() * p1) / (t1 - t0);
 }
 
 double Localizer::trackingBound() const {

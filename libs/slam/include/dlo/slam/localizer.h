@@ -170,6 +170,8 @@ class Localizer {
   LocalizationStep processScan(double time, const PointCloud& points,
                                const std::vector<float>& point_times, PointCloud* owned,
                                std::vector<float>* owned_times);
+  /// The body twist per second over recent_poses_, first to last (at least two).
+  Vector6d recentVelocity() const;
   /// Where a registration against the map starts.
   enum class Start {
     kPrediction,  ///< the odometry's prediction: its z, roll and pitch carried, tracking levels
