@@ -6,8 +6,10 @@
 #include <mrpt/obs/CObservationVelodyneScan.h>
 #include <mrpt/system/datetime.h>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 
 #include "dlo/files/error.h"
 
@@ -30,8 +32,14 @@ void appendFiltered(const mrpt::poses::CPose3D& sensor_pose, const float* xs, co
   const double min2 = options.min_range * options.min_range;
   const double max2 = std::isfinite(options.max_range) ? options.max_range * options.max_range
                                                        : std::numeric_limits<double>::infinity();
-  scan.points.reserve(scan.points.size() + n);
-  if (times) scan.point_times.reserve(scan.point_times.size() + n);
+  // Written in place and cut to size after: push_back's checks per point cost as much as the
+  // filter.
+  const size_t base = scan.points.size();
+  scan.points.resize(base + n);
+  if (times) scan.point_times.resize(base + n);
+  Eigen::Vector3f* out = scan.points.data() + base;
+  float* out_times = times ? scan.point_times.data() + base : nullptr;
+  size_t kept = 0;
   for (size_t i = 0; i < n; ++i) {
     if (!(std::isfinite(xs[i]) && std::isfinite(ys[i]) && std::isfinite(zs[i]))) {
       ++scan.dropped_non_finite;
@@ -43,9 +51,12 @@ void appendFiltered(const mrpt::poses::CPose3D& sensor_pose, const float* xs, co
       ++scan.dropped_by_range;
       continue;
     }
-    scan.points.push_back(R * p + t);
-    if (times) scan.point_times.push_back(times[i]);
+    out[kept] = R * p + t;
+    if (out_times) out_times[kept] = times[i];
+    ++kept;
   }
+  scan.points.resize(base + kept);
+  if (times) scan.point_times.resize(base + kept);
 }
 
 void convertVelodyne(mrpt::obs::CObservationVelodyneScan& velo, const ScanSourceOptions& options,
@@ -60,9 +71,19 @@ void convertVelodyne(mrpt::obs::CObservationVelodyneScan& velo, const ScanSource
   }
   std::vector<float> times;
   if (pc.timestamp.size() == pc.size() && pc.size() > 0) {
+    // mrpt::system::timeDifference()'s arithmetic, with its checks hoisted out of the loop: per
+    // point it looked up a thread-local invalid timestamp twice, a fifth of the time it takes
+    // to read a sweep.
+    const mrpt::Clock::time_point invalid = INVALID_TIMESTAMP;
+    if (velo.timestamp == invalid ||
+        std::find(pc.timestamp.begin(), pc.timestamp.end(), invalid) != pc.timestamp.end()) {
+      throw std::runtime_error("a Velodyne sweep has an invalid timestamp");
+    }
     times.resize(pc.size());
     for (size_t i = 0; i < pc.size(); ++i) {
-      times[i] = static_cast<float>(mrpt::system::timeDifference(velo.timestamp, pc.timestamp[i]));
+      const auto us =
+          std::chrono::duration_cast<std::chrono::microseconds>(pc.timestamp[i] - velo.timestamp);
+      times[i] = static_cast<float>(1e-6 * static_cast<double>(us.count()));
     }
   }
   appendFiltered(velo.sensorPose, pc.x.data(), pc.y.data(), pc.z.data(),

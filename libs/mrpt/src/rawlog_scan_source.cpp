@@ -71,20 +71,35 @@ RawlogScanSource::RawlogScanSource(const std::string& path, const ScanSourceOpti
 }
 
 size_t RawlogScanSource::PeekableInput::Read(void* buffer, size_t count) {
-  const size_t served = std::min(count, peeked_.size());
-  std::copy_n(peeked_.data(), served, static_cast<char*>(buffer));
-  peeked_.erase(0, served);
-  return served +
-         (count > served ? in_.Read(static_cast<char*>(buffer) + served, count - served) : 0);
+  char* out = static_cast<char*>(buffer);
+  size_t served = std::min(count, buffered());
+  std::copy_n(buffer_.data() + begin_, served, out);
+  begin_ += served;
+  if (served == count) return served;
+  // The buffer is empty: a large read goes straight to the stream, a small one refills it.
+  if (count - served >= kChunk) return served + in_.Read(out + served, count - served);
+  fill(kChunk);
+  const size_t more = std::min(count - served, buffered());
+  std::copy_n(buffer_.data() + begin_, more, out + served);
+  begin_ += more;
+  return served + more;
 }
 
-const std::string& RawlogScanSource::PeekableInput::peek(size_t count) {
-  if (peeked_.size() < count) {
-    const size_t had = peeked_.size();
-    peeked_.resize(count);
-    peeked_.resize(had + in_.Read(peeked_.data() + had, count - had));
-  }
-  return peeked_;
+void RawlogScanSource::PeekableInput::fill(size_t want) {
+  const size_t kept = buffered();
+  if (kept >= want) return;
+  if (buffer_.size() < want) buffer_.resize(want);
+  std::copy(buffer_.begin() + static_cast<std::ptrdiff_t>(begin_),
+            buffer_.begin() + static_cast<std::ptrdiff_t>(end_), buffer_.begin());
+  begin_ = 0;
+  end_ = kept;
+  // A short read is the end of the stream (or an error, which the next read meets again).
+  end_ += in_.Read(buffer_.data() + end_, want - kept);
+}
+
+std::string_view RawlogScanSource::PeekableInput::peek(size_t count) {
+  fill(count);
+  return std::string_view(buffer_.data() + begin_, std::min(count, buffered()));
 }
 
 mrpt::serialization::CSerializable::Ptr RawlogScanSource::readActionCollection() {
