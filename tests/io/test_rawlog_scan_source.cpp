@@ -101,6 +101,35 @@ TEST(RawlogScanSource, ReadsObservationOnlyAndSensoryFrameLayoutsAlike) {
   }
 }
 
+TEST(RawlogScanSource, ReadsEntriesThatStraddleItsReadBuffer) {
+  // The stream is read in 64 KiB chunks: 400 action-and-frame pairs of about 1.3 KiB each put
+  // entry headers (which the reader peeks at) and observations across every chunk boundary, and
+  // a large scan in the middle takes the path that bypasses the buffer.
+  TempDir dir;
+  const auto small = test::kittiSubsample(1500);
+  const auto large = test::kittiSubsample(2);
+  ASSERT_GT(large->size() * 12, 64u * 1024u);
+  {
+    test::RawObjectWriter w(dir.path("many.rawlog"));
+    for (int i = 0; i < 400; ++i) {
+      mrpt::obs::CActionCollection actions;
+      mrpt::obs::CSensoryFrame sf;
+      sf.insert(test::pointCloudObservation(i == 200 ? large : small, "L", 0.1 * i));
+      w.write(actions);
+      w.write(sf);
+    }
+  }
+  RawlogScanSource source(dir.path("many.rawlog"));
+  const auto scans = readAll(source);
+  ASSERT_EQ(scans.size(), 400u);
+  for (int i = 0; i < 400; ++i) {
+    SCOPED_TRACE(i);
+    expectSamePoints(i == 200 ? *large : *small, scans[i].points);
+    EXPECT_NEAR(scans[i].timestampSeconds(), 0.1 * i, 1e-6);
+  }
+  EXPECT_TRUE(source.stats().error.empty()) << source.stats().error;
+}
+
 TEST(RawlogScanSource, AppliesTheSensorPose) {
   TempDir dir;
   const auto map = test::kittiSubsample(50);
