@@ -72,8 +72,7 @@ void convertVelodyne(mrpt::obs::CObservationVelodyneScan& velo, const ScanSource
   std::vector<float> times;
   if (pc.timestamp.size() == pc.size() && pc.size() > 0) {
     // mrpt::system::timeDifference()'s arithmetic, with its checks hoisted out of the loop: per
-    // point it looked up a thread-local invalid timestamp twice, a fifth of the time it takes
-    // to read a sweep.
+    // point it looks up MRPT's thread-local invalid timestamp twice (docs/benchmarks.md).
     const mrpt::Clock::time_point invalid = INVALID_TIMESTAMP;
     if (velo.timestamp == invalid ||
         std::find(pc.timestamp.begin(), pc.timestamp.end(), invalid) != pc.timestamp.end()) {

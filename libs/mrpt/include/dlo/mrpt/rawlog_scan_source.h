@@ -48,8 +48,8 @@ class RawlogScanSource : public ScanSource {
  private:
   /// The decompressed rawlog, buffered, with a look-ahead: readEntry() peeks at the class name
   /// of the next entry before MRPT deserializes it. MRPT reads some arrays one element per call
-  /// (a Velodyne sweep's per-point timestamps: 130k reads of 8 bytes), each of which cost a
-  /// zlib call without the buffer: reading a simulated HDL-64 rawlog took 12 ms per sweep.
+  /// (a Velodyne sweep's per-point timestamps: some 130k reads of 8 bytes), and each would
+  /// otherwise be a call into zlib (docs/benchmarks.md).
   class PeekableInput {
    public:
     explicit PeekableInput(mrpt::io::CFileGZInputStream& in) : in_(in) {}
