@@ -84,10 +84,11 @@ void exportHeightGridMap(const mrpt::maps::CHeightGridMap2D& grid, const std::st
   exportSerializedGz(grid, path);
 }
 
-void exportSerializedGz(const mrpt::serialization::CSerializable& object, const std::string& path) {
+void exportSerializedGz(const mrpt::serialization::CSerializable& object, const std::string& path,
+                        int level) {
   writeAtomically(path, [&](const std::string& temp) {
     mrpt::io::CFileGZOutputStream out;
-    if (!out.open(temp)) throw std::runtime_error("cannot create '" + temp + "'");
+    if (!out.open(temp, level)) throw std::runtime_error("cannot create '" + temp + "'");
     auto archive = mrpt::serialization::archiveFrom(out);
     archive << object;
     out.close();

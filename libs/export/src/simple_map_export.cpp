@@ -1,14 +1,11 @@
 #include "dlo/export/simple_map_export.h"
 
-#include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservationPointCloud.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose3DPDFGaussian.h>
-#include <mrpt/serialization/CArchive.h>
-#include <stdexcept>
 
-#include "dlo/files/atomic_file.h"
+#include "dlo/export/height_map_export.h"
 #include "dlo/mrpt/pose_conversion.h"
 
 namespace dlo {
@@ -38,17 +35,10 @@ mrpt::maps::CSimpleMap toSimpleMap(const SlamMap& map) {
 }
 
 void exportSimpleMap(const SlamMap& map, const std::string& path) {
-  const mrpt::maps::CSimpleMap simple = toSimpleMap(map);
-  writeAtomically(path, [&](const std::string& temp) {
-    // What CSimpleMap::saveToFile() writes, a gzip stream, but stored rather than deflated:
-    // keyframe clouds of float coordinates shrink by only a tenth even at zlib's fastest level,
-    // which took most of the export's time (docs/benchmarks.md). MRPT reads either alike.
-    mrpt::io::CFileGZOutputStream out;
-    if (!out.open(temp, 0)) throw std::runtime_error("cannot open '" + temp + "' for writing");
-    auto archive = mrpt::serialization::archiveFrom(out);
-    archive << simple;
-    out.close();
-  });
+  // What CSimpleMap::saveToFile() writes, a gzip stream, but stored rather than deflated:
+  // keyframe clouds of float coordinates shrink by only a tenth even at zlib's fastest level,
+  // which took most of the export's time (docs/benchmarks.md). MRPT reads either alike.
+  exportSerializedGz(toSimpleMap(map), path, 0);
 }
 
 }  // namespace dlo

@@ -72,17 +72,20 @@ RawlogScanSource::RawlogScanSource(const std::string& path, const ScanSourceOpti
 
 size_t RawlogScanSource::PeekableInput::Read(void* buffer, size_t count) {
   char* out = static_cast<char*>(buffer);
-  size_t served = std::min(count, buffered());
-  std::copy_n(buffer_.data() + begin_, served, out);
-  begin_ += served;
-  if (served == count) return served;
-  // The buffer is empty: a large read goes straight to the stream, a small one refills it.
-  if (count - served >= kChunk) return served + in_.Read(out + served, count - served);
-  fill(kChunk);
-  const size_t more = std::min(count - served, buffered());
-  std::copy_n(buffer_.data() + begin_, more, out + served);
-  begin_ += more;
-  return served + more;
+  size_t served = 0;
+  while (served < count) {
+    if (buffered() == 0) {
+      // A large read goes straight to the stream, a small one refills the buffer.
+      if (count - served >= kChunk) return served + in_.Read(out + served, count - served);
+      fill(kChunk);
+      if (buffered() == 0) break;  // the end of the stream
+    }
+    const size_t n = std::min(count - served, buffered());
+    std::copy_n(buffer_.data() + begin_, n, out + served);
+    begin_ += n;
+    served += n;
+  }
+  return served;
 }
 
 void RawlogScanSource::PeekableInput::fill(size_t want) {

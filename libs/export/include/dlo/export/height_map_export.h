@@ -53,8 +53,10 @@ class HeightGridAccumulator {
 /// \throws OutputError naming `path`.
 void exportHeightGridMap(const mrpt::maps::CHeightGridMap2D& grid, const std::string& path);
 
-/// Writes `object` MRPT-serialised and gzip-compressed (what MRPT's tools read for .gridmap and
-/// heightmap files), atomically. \throws OutputError naming `path`.
-void exportSerializedGz(const mrpt::serialization::CSerializable& object, const std::string& path);
+/// Writes `object` MRPT-serialised in a gzip stream (what MRPT's tools read for .gridmap,
+/// heightmap and .simplemap files), atomically, at zlib's `level` (0: stored, not deflated; 1:
+/// fastest; 9: smallest). \throws OutputError naming `path`.
+void exportSerializedGz(const mrpt::serialization::CSerializable& object, const std::string& path,
+                        int level = 1);
 
 }  // namespace dlo
