@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -117,6 +118,63 @@ TEST(PlaceCellsKernels, Sse2IsScalarBitForBit) {
   // The offsets moved cells (the comparison is not between two copies of the input).
   EXPECT_GT(moved, 1000);
 #endif
+}
+
+/// One Newton step from where a cell stood at the previous pose (kWarmNewtonSteps) places it
+/// nearly where the full solution from its own position does, after a pose change of the size
+/// that late Gauss-Newton iterations make (millimetres, hundredths of a degree): the iterations
+/// may stop refining the places without moving the answer they converge to.
+TEST(PlaceCellsKernels, OneWarmStepNearlySolvesASmallMotion) {
+  std::mt19937 rng = test::seeded(12);
+  const GridGeometry g = GridGeometry::centred(56, 40, 0.1);
+  const std::vector<Eigen::Vector2f> lattice_offsets = offsets(g.rows, g.cols, 0.3f, rng);
+  simd::OffsetLattice lattice;
+  lattice.offsets = lattice_offsets.data();
+  lattice.cols = g.cols;
+  lattice.rows = g.rows;
+  lattice.inv_res = static_cast<float>(1.0 / g.resolution);
+  lattice.x_c = static_cast<float>(g.cellCentreX(0));
+  lattice.y_c = static_cast<float>(g.cellCentreY(0));
+  lattice.limit = 0.05f;
+  std::vector<SelectedCell> cells;
+  std::vector<Eigen::Vector2f> own;
+  someCells(g, 2000, rng, cells, own);
+  const size_t n = cells.size();
+  const Eigen::Matrix3f R0 = Eigen::Matrix3f::Identity();
+  const Eigen::Vector3f t0(0.2f, -0.1f, 0.0f);
+  for (const float step : {0.001f, 0.005f}) {
+    // The previous iteration's places, then the next pose: `step` metres and step / 10 rad.
+    std::vector<Eigen::Vector2f> warm(n);
+    std::vector<SelectedCell> before(n), warm_placed(n), cold_placed(n);
+    simd::placeCellsScalar(lattice, cells.data(), own.data(), 0, n, R0, t0, false, warm.data(),
+                           before.data());
+    const Eigen::Matrix3f R1 = Eigen::AngleAxisf(0.1f * step, Eigen::Vector3f::UnitZ()).matrix();
+    const Eigen::Vector3f t1 = t0 + Eigen::Vector3f(step, -0.5f * step, 0.0f);
+    simd::placeCellsScalar(lattice, cells.data(), own.data(), 0, n, R1, t1, true, warm.data(),
+                           warm_placed.data());
+    simd::placeCellsScalar(lattice, cells.data(), own.data(), 0, n, R1, t1, false, nullptr,
+                           cold_placed.data());
+    std::vector<float> error, moved;
+    for (size_t i = 0; i < n; ++i) {
+      const Eigen::Vector2f c(cold_placed[i].x, cold_placed[i].y);
+      const Eigen::Vector2f w(warm_placed[i].x, warm_placed[i].y);
+      const Eigen::Vector2f b(before[i].x, before[i].y);
+      if (!c.allFinite()) continue;
+      error.push_back((w - c).norm());
+      moved.push_back((b - c).norm());
+    }
+    ASSERT_GT(error.size(), n / 2);
+    std::sort(error.begin(), error.end());
+    std::sort(moved.begin(), moved.end());
+    const size_t p95 = error.size() * 95 / 100;
+    // The places themselves moved with the pose (beyond what the step leaves)...
+    EXPECT_GT(moved[p95], 0.2f * step) << "step " << step;
+    // ...and the one step left a small fraction of that. A cell whose step crosses into the
+    // next cell of the lattice, where the offsets' slope changes, keeps an error of first order,
+    // still below the motion.
+    EXPECT_LT(error[p95], 0.02f * moved[p95]) << "step " << step;
+    EXPECT_LT(error.back(), 0.5f * step) << "step " << step;
+  }
 }
 
 }  // namespace

@@ -29,6 +29,15 @@ struct OffsetLattice {
   float limit = 0.0f;  ///< longest Newton step, metres (half a cell)
 };
 
+/// Newton steps that place a cell from its own position (the first Gauss-Newton iteration of a
+/// level) and from where it stood at the previous pose (`warm_start`). The pose moves little
+/// between iterations, so that one step from there leaves an error of second order in that
+/// motion (of first order for the few cells whose step crosses into the next lattice cell,
+/// where the offsets' slope changes); it vanishes as the iterations converge
+/// (tests/core/test_place_cells_kernels.cpp). A second step would mostly confirm the first.
+constexpr int kColdNewtonSteps = 4;
+constexpr int kWarmNewtonSteps = 1;
+
 /// The offsets of the four cells from (r0, c0) to (r0 + 1, c0 + 1), zero beyond the lattice.
 inline void cornerOffsets(const OffsetLattice& lattice, int r0, int c0, Eigen::Vector2f& d00,
                           Eigen::Vector2f& d10, Eigen::Vector2f& d01, Eigen::Vector2f& d11) {
@@ -54,9 +63,9 @@ inline void cornerOffsets(const OffsetLattice& lattice, int r0, int c0, Eigen::V
 
 /// For k in [from, n): cells[k] moved by cell_offsets[k] (to its centroid), taken into the
 /// reference by (R, t), the place p of the lattice with p + offset(p) = its position solved for
-/// (at most four Newton steps, from its position - warm[k] where `warm_start`, else from its
-/// position), and out[k] = the moved cell less R^T (position - p). warm[k] = position - p where
-/// `warm` is not null. Returns n.
+/// (at most kWarmNewtonSteps Newton steps from its position - warm[k] where `warm_start`, else
+/// at most kColdNewtonSteps from its position), and out[k] = the moved cell less R^T (position -
+/// p). warm[k] = position - p where `warm` is not null. Returns n.
 size_t placeCellsScalar(const OffsetLattice& lattice, const SelectedCell* cells,
                         const Eigen::Vector2f* cell_offsets, size_t from, size_t n,
                         const Eigen::Matrix3f& R, const Eigen::Vector3f& t, bool warm_start,

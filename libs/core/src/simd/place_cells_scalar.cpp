@@ -18,6 +18,7 @@ size_t placeCellsScalar(const OffsetLattice& lattice, const SelectedCell* cells,
     const int i = static_cast<int>(x);
     return i - (x < static_cast<float>(i) ? 1 : 0);
   };
+  const int steps = warm_start ? kWarmNewtonSteps : kColdNewtonSteps;
   for (size_t i = from; i < n; ++i) {
     SelectedCell c = cells[i];
     c.x += cell_offsets[i].x();
@@ -29,7 +30,7 @@ size_t placeCellsScalar(const OffsetLattice& lattice, const SelectedCell* cells,
     // interpolant of heights at p is then the deformed lattice's at q).
     const Eigen::Vector2f target = q.head<2>();
     Eigen::Vector2f at = warm_start ? Eigen::Vector2f(target - warm[i]) : target;
-    for (int it = 0; it < 4; ++it) {
+    for (int it = 0; it < steps; ++it) {
       const float u = std::clamp((at.x() - x_c) * inv_res, -2.0f, u_max);
       const float v = std::clamp((at.y() - y_c) * inv_res, -2.0f, v_max);
       const int c0 = floorInt(u), r0 = floorInt(v);

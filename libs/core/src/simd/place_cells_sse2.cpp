@@ -57,6 +57,7 @@ size_t placeCellsSse2(const OffsetLattice& lattice, const SelectedCell* cells,
   const __m128 limit = _mm_set1_ps(lattice.limit);
   const __m128 all = _mm_castsi128_ps(_mm_set1_epi32(-1));
   const PoseSse2 pose(R, t);
+  const int steps = warm_start ? kWarmNewtonSteps : kColdNewtonSteps;
   size_t k = from;
   for (; k + 4 <= n; k += 4) {
     const SelectedCell* c = cells + k;
@@ -74,7 +75,7 @@ size_t placeCellsSse2(const OffsetLattice& lattice, const SelectedCell* cells,
       ay = sub(ty, _mm_setr_ps(w[0].y(), w[1].y(), w[2].y(), w[3].y()));
     }
     __m128 active = all;
-    for (int it = 0; it < 4; ++it) {
+    for (int it = 0; it < steps; ++it) {
       const int live = _mm_movemask_ps(active);
       if (live == 0) break;
       const __m128 u = clamp(mul(sub(ax, x_c), inv_res), lo, u_max);
