@@ -225,11 +225,25 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     pose = reference_->pose() * step.registration.pose;
     step.registered = true;
     step.times.registration.solve_ms += step.registration.times.solve_ms;
-    if (dt > 0.0 && dt < 1.0 && disagrees(predicted, pose)) {
+    // The prediction's fit, in the frame deskewed with the predicted motion (negative: not
+    // evaluated).
+    double prediction_cost = -1.0;
+    const bool timed = dt > 0.0 && dt < 1.0;
+    bool doubtful = timed && disagrees(predicted, pose);
+    if (timed && !doubtful && params_.odometry.recheck_worse_fits &&
+        !step.registration.degenerate &&
+        deviation(predicted, pose) > kSameAnswer * params_.odometry.max_prior_deviation) {
+      // Moved from the prediction by more than tells two answers apart, yet fitting the scan
+      // worse than the prediction: no better answer was found (OdometryParams::
+      // recheck_worse_fits).
+      prediction_cost = aligner_.cost(reference_->frame(), current_, to_reference * predicted);
+      doubtful = prediction_cost < step.registration.cost;
+    }
+    if (doubtful) {
       bool as_predicted = true;  // the current frame is deskewed with the predicted motion
-      // The prediction's fit, in the frame deskewed with the predicted motion.
-      const double prediction_cost =
-          aligner_.cost(reference_->frame(), current_, to_reference * predicted);
+      if (prediction_cost < 0.0) {
+        prediction_cost = aligner_.cost(reference_->frame(), current_, to_reference * predicted);
+      }
       if (deskew && !step.registration.degenerate) {
         // The scan was deskewed with the predicted motion, which its registration contradicts:
         // deskewed with the motion it measured, it is registered again (a robot that begins to

@@ -62,6 +62,12 @@ std::vector<ParamField<SlamParams>> fields() {
                  "the best fit wins if it beats the prediction's by a margin growing with its "
                  "distance from it (README); the bound grows by as much with each consecutive "
                  "scan where the prediction was kept (a quarter as much for rotations); 0: off"),
+      paramField("odometry", "recheck_worse_fits", &S::odometry, &O::recheck_worse_fits,
+                 "true: a registration more than a quarter of max_prior_deviation from the "
+                 "prediction that fits the scan worse than the prediction is decided by the "
+                 "scan as one beyond max_prior_deviation is (the sparse profile); false: only "
+                 "those beyond it",
+                 booleanNames()),
       paramField("odometry", "max_acceleration", &S::odometry, &O::max_acceleration,
                  "m/s^2; the velocity carried to the next scan changes by at most this per "
                  "second, unless the scan disagreed with the prediction and its registration "
