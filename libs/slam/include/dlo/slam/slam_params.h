@@ -68,10 +68,10 @@ struct OdometryParams {
   /// max_prior_deviation yet fits the scan worse than the prediction (the mean robust cost of its
   /// cells) is decided by the scan as a registration beyond max_prior_deviation is: registered
   /// from other starts, the best fit believed if it beats the prediction's. Gauss-Newton on
-  /// smoothed gradients does not descend the cost, and on sparse scans it can cycle to an end a
-  /// degree and a half off on a straight. The sparse profile sets it; dense scans braking hard
-  /// fit the prediction up to 30 % better than the registrations that follow the braking, and
-  /// kept the prediction (measurements: docs/benchmarks.md).
+  /// smoothed gradients does not descend the cost, and on sparse scans it can cycle to an end
+  /// degrees off on a straight. The sparse profile sets it; dense scans braking hard fit the
+  /// prediction better than the registrations that follow the braking, which it would then
+  /// overrule (measurements: docs/benchmarks.md).
   bool recheck_worse_fits = false;
   /// m/s^2: the velocity carried to the next scan changes by at most this per second (a car
   /// brakes at up to about 10), unless the scan disagreed with the prediction and its
