@@ -28,19 +28,6 @@ std::vector<Eigen::Vector2f> offsets(int rows, int cols, float spread, std::mt19
   return out;
 }
 
-/// The lattice of `offsets` on `g`, as the aligner builds it (steps of at most half a cell).
-simd::OffsetLattice latticeOf(const GridGeometry& g, const std::vector<Eigen::Vector2f>& offsets) {
-  simd::OffsetLattice lattice;
-  lattice.offsets = offsets.data();
-  lattice.cols = g.cols;
-  lattice.rows = g.rows;
-  lattice.inv_res = static_cast<float>(1.0 / g.resolution);
-  lattice.x_c = static_cast<float>(g.cellCentreX(0));
-  lattice.y_c = static_cast<float>(g.cellCentreY(0));
-  lattice.limit = 0.5f * static_cast<float>(g.resolution);
-  return lattice;
-}
-
 /// Cells over the lattice and a margin of a metre around it (where offsets are zero), their
 /// own offsets within half a cell, plus a NaN and the edges of the cell centres.
 void someCells(const GridGeometry& g, size_t n, std::mt19937& rng, std::vector<SelectedCell>& cells,
@@ -79,7 +66,7 @@ TEST(PlaceCellsKernels, Sse2IsScalarBitForBit) {
     for (float spread : {0.3f, 1.5f}) {
       const std::vector<Eigen::Vector2f> lattice_offsets =
           offsets(size.first, size.second, spread, rng);
-      const simd::OffsetLattice lattice = latticeOf(g, lattice_offsets);
+      const simd::OffsetLattice lattice = simd::offsetLattice(g, lattice_offsets.data());
       for (size_t extra : test::edgeLengths()) {
         std::vector<SelectedCell> cells;
         std::vector<Eigen::Vector2f> own;
@@ -134,7 +121,7 @@ TEST(PlaceCellsKernels, OneWarmStepNearlySolvesASmallMotion) {
   std::mt19937 rng = test::seeded(12);
   const GridGeometry g = GridGeometry::centred(56, 40, 0.1);
   const std::vector<Eigen::Vector2f> lattice_offsets = offsets(g.rows, g.cols, 0.3f, rng);
-  const simd::OffsetLattice lattice = latticeOf(g, lattice_offsets);
+  const simd::OffsetLattice lattice = simd::offsetLattice(g, lattice_offsets.data());
   std::vector<SelectedCell> cells;
   std::vector<Eigen::Vector2f> own;
   someCells(g, 2000, rng, cells, own);

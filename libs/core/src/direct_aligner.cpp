@@ -274,16 +274,8 @@ const std::vector<SelectedCell>& placed(const FrameLevel& ref, const FrameLevel&
   if (warm != nullptr && !warm_start) warm->resize(cur.cells.size());  // written, not read
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
-  const GridGeometry& geo = ref.grid.geometry();
-  // Lattice coordinates in floats, from the centre of cell (0, 0): u = (x - x_c) / resolution.
-  simd::OffsetLattice lattice;
-  lattice.offsets = ref.grid_offsets.data();
-  lattice.cols = geo.cols;
-  lattice.rows = geo.rows;
-  lattice.inv_res = static_cast<float>(1.0 / geo.resolution);
-  lattice.x_c = static_cast<float>(geo.cellCentreX(0));
-  lattice.y_c = static_cast<float>(geo.cellCentreY(0));
-  lattice.limit = 0.5f * static_cast<float>(geo.resolution);
+  const simd::OffsetLattice lattice =
+      simd::offsetLattice(ref.grid.geometry(), ref.grid_offsets.data());
   const size_t n = cur.cells.size();
   Eigen::Vector2f* w = warm != nullptr ? warm->data() : nullptr;
   size_t k = 0;

@@ -15,6 +15,7 @@
 #include <cstddef>
 
 #include "dlo/core/cell_selection.h"
+#include "dlo/core/grid_geometry.h"
 
 namespace dlo::simd {
 
@@ -28,6 +29,21 @@ struct OffsetLattice {
   float y_c = 0.0f;
   float limit = 0.0f;  ///< longest Newton step, metres (half a cell)
 };
+
+/// The lattice of `offsets` (rows x cols of `geo`, row-major) in `geo`: coordinates in floats
+/// from the centre of cell (0, 0), u = (x - x_c) / resolution; Newton steps of at most half a
+/// cell.
+inline OffsetLattice offsetLattice(const GridGeometry& geo, const Eigen::Vector2f* offsets) {
+  OffsetLattice lattice;
+  lattice.offsets = offsets;
+  lattice.cols = geo.cols;
+  lattice.rows = geo.rows;
+  lattice.inv_res = static_cast<float>(1.0 / geo.resolution);
+  lattice.x_c = static_cast<float>(geo.cellCentreX(0));
+  lattice.y_c = static_cast<float>(geo.cellCentreY(0));
+  lattice.limit = 0.5f * static_cast<float>(geo.resolution);
+  return lattice;
+}
 
 /// Newton steps that place a cell from its own position (the first Gauss-Newton iteration of a
 /// level) and from where it stood at the previous pose (`warm_start`). The pose moves little
