@@ -24,6 +24,9 @@ command -v clang++ >/dev/null || {
   exit 1
 }
 
+# One source at a time (no unity build, unlike scripts/build.sh and the sanitizer pass): the
+# suite's one build where every library source is compiled on its own, so that a source or
+# header that misses an include fails here and not only for whoever builds without unity.
 cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug -DDLO_FUZZ=ON \
   -DDLO_BUILD_TESTS=OFF -DDLO_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build build-fuzz --target dlo_fuzz_targets -j "${DLO_JOBS:-2}"

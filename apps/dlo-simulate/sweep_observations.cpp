@@ -8,12 +8,6 @@
 
 namespace dlo {
 
-namespace {
-
-constexpr double kRangeUnit = 0.002;
-
-}  // namespace
-
 mrpt::obs::CObservationRotatingScan::Ptr toRotatingScan(const sim::Sweep& sweep,
                                                         const sim::SweepSimulator& simulator,
                                                         const Eigen::Isometry3d& sensorMount,

@@ -14,7 +14,6 @@ using Velo = mrpt::obs::CObservationVelodyneScan;
 static_assert(sizeof(Velo::TVelodyneRawPacket) == 1206, "Velodyne packet layout changed");
 
 constexpr int kBlockBytes = 100;  // header (2) + rotation (2) + 32 returns x 3 bytes.
-constexpr double kRangeUnit = 0.002;
 
 /// Little-endian packet bytes: the wire format, which MRPT reads through toNativeEndianness.
 class PacketBytes {

@@ -11,6 +11,10 @@
 
 namespace dlo {
 
+/// Metres per range unit of the simulated observations: a Velodyne data packet's 2 mm, also
+/// used by the rotating-scan form (sweep_observations.h).
+inline constexpr double kRangeUnit = 0.002;
+
 /**
  * One sweep as an mrpt::obs::CObservationVelodyneScan, in two forms:
  *

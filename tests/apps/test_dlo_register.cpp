@@ -15,6 +15,7 @@
 #include "../test_data.h"
 #include "../test_process.h"
 #include "dlo/core/rigid_transform.h"
+#include "dlo/core/units.h"
 #include "dlo/formats/kitti_bin.h"
 
 namespace dlo {
@@ -90,8 +91,6 @@ std::vector<double> covarianceOf(const nlohmann::json& json) {
 int lineCount(const std::string& text) {
   return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
 }
-
-constexpr double kDeg = M_PI / 180.0;
 
 /// Reference: even points; current: odd points seen from a frame moved by the truth.
 class DloRegister : public ::testing::Test {

@@ -11,11 +11,10 @@
 #include "dlo/core/ground_surface.h"
 #include "dlo/core/height_grid.h"
 #include "dlo/core/rigid_transform.h"
+#include "dlo/core/units.h"
 
 namespace dlo {
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 /// The world's ground: climbing at 15 % at x = 0 to a crest at x = 7.5 m and falling at 25 %
 /// at x = 20 m, with a 3 % cross slope.

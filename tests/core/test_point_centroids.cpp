@@ -12,6 +12,7 @@
 #include "dlo/core/dlo_params.h"
 #include "dlo/core/height_frame.h"
 #include "dlo/core/rigid_transform.h"
+#include "dlo/core/units.h"
 
 namespace dlo {
 namespace {
@@ -19,7 +20,6 @@ namespace {
 constexpr double kSensorHeight = 1.8;
 constexpr double kKerbY = 3.0;  // kerbs at y = +-3 m
 constexpr double kKerbHeight = 0.13;
-constexpr double kDeg = M_PI / 180.0;
 
 /// A sweep of a straight road with a kerb on either side, from a sensor at (x0, 0, 1.8) m:
 /// 64 rings from -2 to -24.8 deg (0.36 deg apart) at 0.2 deg of azimuth, each ray ending on the

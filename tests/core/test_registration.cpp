@@ -8,12 +8,11 @@
 #include "dlo/core/direct_aligner.h"
 #include "dlo/core/dlo_params.h"
 #include "dlo/core/height_frame.h"
+#include "dlo/core/units.h"
 #include "dlo/formats/kitti_bin.h"
 
 namespace dlo {
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 struct Motion {
   double x, y, z, yaw_deg, pitch_deg, roll_deg;

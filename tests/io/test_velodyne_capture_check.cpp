@@ -25,7 +25,7 @@ struct Record {
   Bytes data;
 };
 
-Bytes readFile(const std::string& path) {
+Bytes readBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return Bytes(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
@@ -49,7 +49,7 @@ void put16(Bytes& out, uint16_t v, bool big_endian = false) {
 
 /// The records of the real capture (little-endian classic pcap).
 std::vector<Record> realRecords() {
-  const Bytes file = readFile(test::sharedData("sample_velodyne_vlp16_gps.pcap"));
+  const Bytes file = readBytes(test::sharedData("sample_velodyne_vlp16_gps.pcap"));
   std::vector<Record> records;
   for (size_t at = 24; at + 16 <= file.size();) {
     const uint32_t caplen = le32(&file[at + 8]);

@@ -14,6 +14,7 @@
 
 #include "../test_data.h"
 #include "dlo/core/rigid_transform.h"
+#include "dlo/core/units.h"
 #include "dlo/files/error.h"
 #include "dlo/formats/kitti_bin.h"
 #include "dlo/mrpt/CDirectHeightAligner.h"
@@ -26,7 +27,6 @@ namespace dlo {
 namespace {
 
 using mrpt::slam::CDirectHeightAligner;
-constexpr double kDeg = M_PI / 180.0;
 
 /// MRPT code that only knows the interface: this is where CICP would be used.
 mrpt::poses::CPose3DPDF::Ptr registerMaps(mrpt::slam::CMetricMapsAlignmentAlgorithm& algorithm,

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "dlo/core/units.h"
 #include "dlo/sim/deterministic_random.h"
 #include "dlo/sim/procedural_world.h"
 #include "dlo/sim/route.h"
@@ -27,8 +28,6 @@ namespace {
 using sim::Primitive;
 using sim::Shape;
 using sim::SurfaceClass;
-
-constexpr double kDeg = M_PI / 180.0;
 
 /// A box building on the flat ground: footprint centre, half sizes, height.
 Primitive building(double x, double y, double hx, double hy, double height) {

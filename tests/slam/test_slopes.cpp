@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "dlo/core/units.h"
 #include "dlo/sim/procedural_world.h"
 #include "dlo/sim/route.h"
 #include "dlo/sim/sweep_simulator.h"
@@ -19,7 +20,6 @@
 namespace dlo {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 constexpr int kScans = 30;
 
 /// Largest errors of an odometry against the truth over a drive.

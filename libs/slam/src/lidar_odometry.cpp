@@ -9,11 +9,11 @@
 #include "dlo/core/deskew.h"
 #include "dlo/core/ground_alignment.h"
 #include "dlo/core/sweep_timing.h"
+#include "dlo/core/units.h"
 
 namespace dlo {
 
 namespace {
-constexpr double kDeg = M_PI / 180.0;
 /// Variance of what a rejected registration could not tell, as DirectAligner gives directions it
 /// cannot observe.
 constexpr double kUnobservedVariance = 1e6;

@@ -20,15 +20,16 @@
 #include "dlo/core/range_message.h"
 #include "dlo/core/rigid_transform.h"
 #include "dlo/core/stage_times.h"
+#include "dlo/core/units.h"
 #include "dlo/files/error.h"
 #include "dlo/formats/png_file.h"
 #include "dlo/mrpt/pose_conversion.h"
 #include "dlo/slam/lidar_odometry.h"
+#include "search_basins.h"
 
 namespace dlo {
 
 namespace {
-constexpr double kDeg = M_PI / 180.0;
 
 /// The odometry that bridges between registrations against the map: cells at their centres.
 /// Points at their centroids (selection.centroid_levels) cost the odometry twice the time, and
@@ -39,9 +40,6 @@ SlamParams bridgingOdometry(SlamParams slam) {
   return slam;
 }
 
-/// Two poses this far apart are different basins of the search.
-constexpr double kDistinctBasin = 1.5;              // metres
-constexpr double kDistinctBasinAngle = 5.0 * kDeg;  // radians
 /// Localised scans whose median RMS sets what a tracked registration may reach.
 constexpr size_t kRecentFits = 20;
 /// Scans after a re-localisation that jumped away from the odometry's pose that must be

@@ -6,12 +6,13 @@
 #include <sstream>
 
 #include "dlo/core/ground_alignment.h"
+#include "dlo/core/units.h"
 #include "dlo/slam/keyframe_graph.h"
+#include "search_basins.h"
 
 namespace dlo {
 
 namespace {
-constexpr double kDeg = M_PI / 180.0;
 /// Coarse search for the loop's basin: cell size (m), lattice of start offsets (m, degrees).
 constexpr double kSearchResolution = 0.8;
 constexpr double kSearchOffsets[] = {-4.0, -2.0, 0.0, 2.0, 4.0};
@@ -22,9 +23,6 @@ constexpr double kSearchYaws[] = {-12.0, -6.0, 0.0, 6.0, 12.0};
 /// 3 to 11 m from the truth, where the heading had drifted less than a degree).
 constexpr double kMaxLatticeRotation =
     (kSearchYaws[4] + 0.5 * (kSearchYaws[4] - kSearchYaws[3])) * kDeg;  // radians
-/// Two coarse results this far apart are different basins.
-constexpr double kDistinctBasin = 1.5;              // metres
-constexpr double kDistinctBasinAngle = 5.0 * kDeg;  // radians
 /// A different basin whose RMS is within this factor of the best makes the place ambiguous.
 constexpr double kAmbiguityRatio = 1.05;
 /// Basins of the coarse search refined at full resolution.

@@ -8,13 +8,13 @@
 #include <malloc.h>
 #endif
 
+#include "dlo/core/units.h"
 #include "dlo/slam/keyframe_graph.h"
 #include "dlo/slam/process_memory.h"
 
 namespace dlo {
 
 namespace {
-constexpr double kDeg = M_PI / 180.0;
 /// Keyframes to wait after an accepted loop before looking again: consecutive keyframes would
 /// mostly re-add the same constraint.
 constexpr int kLoopCooldown = 3;
