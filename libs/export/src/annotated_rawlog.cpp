@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "dlo/core/units.h"
 #include "dlo/core/weighted_cloud.h"
 #include "dlo/mrpt/pose_conversion.h"
 
@@ -80,8 +81,7 @@ AnnotatedRawlogWriter::AnnotatedRawlogWriter(const std::string& path,
 
 Matrix6d AnnotatedRawlogWriter::defaultMotionCovariance() {
   Vector6d sigma;
-  const double deg = M_PI / 180.0;
-  sigma << 0.05, 0.05, 0.05, 0.5 * deg, 0.5 * deg, 0.5 * deg;
+  sigma << 0.05, 0.05, 0.05, 0.5 * kDeg, 0.5 * kDeg, 0.5 * kDeg;
   return sigma.cwiseAbs2().asDiagonal();
 }
 

@@ -10,7 +10,7 @@ std::string registrationReportJson(const mrpt::poses::CPose3DPDFGaussian& pdf,
                                    const mrpt::slam::CDirectHeightAligner::TReturnInfo& info) {
   // The keys stay in the order written, the order scripts know.
   using Json = nlohmann::ordered_json;
-  constexpr double kDeg = 180.0 / M_PI;
+  constexpr double kDegPerRad = 180.0 / M_PI;
   const mrpt::poses::CPose3D& p = pdf.mean;
   // A degenerate solve can produce NaN or infinity in the covariance: nlohmann writes null.
   Json covariance = Json::array();
@@ -20,9 +20,9 @@ std::string registrationReportJson(const mrpt::poses::CPose3DPDFGaussian& pdf,
                         {{"x", p.x()},
                          {"y", p.y()},
                          {"z", p.z()},
-                         {"yaw_deg", p.yaw() * kDeg},
-                         {"pitch_deg", p.pitch() * kDeg},
-                         {"roll_deg", p.roll() * kDeg}}},
+                         {"yaw_deg", p.yaw() * kDegPerRad},
+                         {"pitch_deg", p.pitch() * kDegPerRad},
+                         {"roll_deg", p.roll() * kDegPerRad}}},
                        {"covariance", std::move(covariance)},
                        {"iterations", info.iterations},
                        {"cells", info.cells},
