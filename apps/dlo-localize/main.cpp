@@ -70,8 +70,8 @@ std::optional<Arguments> parseArguments(int argc, char** argv) {
   Arguments a;
   dlo::ProgramOptions cl("dlo-localize", kDescription);
   cl.text("--map", a.map,
-          "a dlo-slam output folder (its heightmap.bin and map.simplemap are read); required "
-          "unless --dump-config")
+          "a dlo-slam output folder (its heightmap.bin, heightmap_centroids.bin and "
+          "map.simplemap are read); required unless --dump-config")
       .valueName("MAP");
   cl.text("--input", a.input,
           "the drive to localise: a rawlog, a Velodyne .pcap or a KITTI folder; required unless "
@@ -146,6 +146,9 @@ Json report(const Arguments& args, const dlo::Localizer& localizer,
   Json j;
   j["map"] = args.map;
   j["map_keyframes"] = localizer.map().size();
+  // Whether the map's heights were moved to their cells' centres (docs/apps.md, dlo-localize):
+  // false with the sparse profile, or for a map made before dlo-slam wrote its centroids.
+  j["map_heights_at_centres"] = localizer.map().heights_at_centres;
   j["input"] = args.input;
   j["sensor_profile"] = profile;
   j["scans"] = steps.size();

@@ -42,6 +42,7 @@ constexpr const char* kFooter = R"(Outputs in DIR:
   map.simplemap                      keyframes with their point clouds (CSimpleMap)
   heightmap.bin, heightmap.png       CHeightGridMap2D of the whole area; colour image with the
                                      trajectory and loop closures
+  heightmap_centroids.bin            where in each height map cell its points lie (dlo-localize)
   map.gridmap, map.png, map.yaml     2D occupancy grid (COccupancyGridMap2D for MRPT's
                                      localisation and navigation; image and ROS map_server YAML):
                                      obstacles rise more than --obstacle-height above the ground

@@ -20,6 +20,8 @@
 #include <sstream>
 
 #include "dlo/export/export_all.h"
+#include "dlo/export/height_map_export.h"
+#include "dlo/formats/height_map_centroids.h"
 #include "dlo/formats/ply_file.h"
 #include "dlo/metrics/trajectory_io.h"
 #include "dlo/mrpt/pose_conversion.h"
@@ -90,9 +92,9 @@ std::pair<std::string, int> run(const std::string& command) {
 
 TEST_F(ExportAll, WritesEveryFileAndNoTemporaryOnes) {
   for (const std::string& w : report_->warnings) ADD_FAILURE_AT(__FILE__, __LINE__) << w;
-  for (const char* name :
-       {"trajectory.tum", "trajectory.kitti", "keyframes.graph", "map.simplemap", "heightmap.bin",
-        "heightmap.png", "map.gridmap", "map.png", "map.yaml", "map.ply", "map.3Dscene"}) {
+  for (const char* name : {"trajectory.tum", "trajectory.kitti", "keyframes.graph", "map.simplemap",
+                           "heightmap.bin", "heightmap_centroids.bin", "heightmap.png",
+                           "map.gridmap", "map.png", "map.yaml", "map.ply", "map.3Dscene"}) {
     EXPECT_TRUE(fs::is_regular_file(file(name))) << name;
     EXPECT_NE(std::find(report_->written.begin(), report_->written.end(), file(name)),
               report_->written.end())
@@ -173,6 +175,52 @@ TEST_F(ExportAll, HeightGridHasTheBoxAndTheGround) {
   // The grid covers every point plus the margin: the far side of the circle (y = 30 m) and the
   // 20 m range around it.
   EXPECT_GE(grid.getYMax(), 2 * SyntheticWorld::kRadius + 20.0);
+}
+
+TEST_F(ExportAll, HeightMapCentroidsMatchTheHeightGrid) {
+  mrpt::io::CFileGZInputStream in(file("heightmap.bin"));
+  mrpt::maps::CHeightGridMap2D grid;
+  mrpt::serialization::archiveFrom(in) >> grid;
+  const dlo::HeightMapCentroids c = dlo::readHeightMapCentroids(file("heightmap_centroids.bin"));
+  EXPECT_EQ(c.cols, grid.getSizeX());
+  EXPECT_EQ(c.rows, grid.getSizeY());
+  EXPECT_EQ(c.places.size(), 2 * grid.getSizeX() * grid.getSizeY());
+}
+
+TEST(HeightGridAccumulator, CentroidsAreWhereTheWeightedPointsLie) {
+  // A 0.5 m grid from (-1, -1) (the lowest point, no margin). Its cell (2, 2) spans [0, 0.5) x
+  // [0, 0.5): one point at (0.1, 0.4) counted three times and one at (0.3, 0.2) put its
+  // centroid at (0.15, 0.35), 0.3 and 0.7 of the cell. Cell (3, 2) holds one point at its
+  // centre; cell (3, 3) holds none (the centre).
+  const auto point = [](float x, float y, std::uint32_t n) {
+    return dlo::WeightedPoint{Eigen::Vector3f(x, y, 0.0f), n};
+  };
+  const dlo::WeightedCloud points = {point(-1.0f, -1.0f, 1), point(1.9f, 1.9f, 1),
+                                     point(0.1f, 0.4f, 3),   point(0.3f, 0.2f, 1),
+                                     point(0.75f, 0.25f, 1), point(0.2f, 0.9f, 1)};
+  dlo::HeightGridAccumulator acc(0.5, 0.0);
+  acc.extend(points);
+  acc.add(points);
+  const mrpt::maps::CHeightGridMap2D grid = acc.grid();
+  ASSERT_NEAR(grid.getXMin(), -1.0, 1e-9);
+  ASSERT_NEAR(grid.getYMin(), -1.0, 1e-9);
+  const dlo::HeightMapCentroids c = acc.centroids();
+  ASSERT_EQ(c.cols, grid.getSizeX());
+  ASSERT_EQ(c.rows, grid.getSizeY());
+  ASSERT_GE(c.cols, 4u);
+  ASSERT_GE(c.rows, 4u);
+  ASSERT_EQ(grid.cellByIndex(2, 2)->w, 4u);
+  const auto place = [&](size_t cx, size_t cy, int axis) {
+    return dlo::HeightMapCentroids::fraction(c.places[2 * (cy * c.cols + cx) + axis]);
+  };
+  const float step = 1.0f / 256.0f;
+  EXPECT_NEAR(place(2, 2, 0), 0.3f, step);
+  EXPECT_NEAR(place(2, 2, 1), 0.7f, step);
+  EXPECT_NEAR(place(3, 2, 0), 0.5f, step);
+  EXPECT_NEAR(place(3, 2, 1), 0.5f, step);
+  EXPECT_EQ(grid.cellByIndex(3, 3)->w, 0u);
+  EXPECT_NEAR(place(3, 3, 0), 0.5f, step);
+  EXPECT_NEAR(place(3, 3, 1), 0.5f, step);
 }
 
 TEST_F(ExportAll, OccupancyGridHasTheBoxAsObstacleAndTheGroundFree) {

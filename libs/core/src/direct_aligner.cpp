@@ -259,13 +259,23 @@ Matrix6d toTwistCovariance(const Eigen::Matrix<double, N, N>& c) {
 /// instead: whenever a step points back against the previous one, later steps are halved.
 /// The current level's cells as they are compared with the reference: each at the centroid of
 /// its points, and read in the reference where the reference's own cells' centroids put that
-/// place (the offsets interpolated bilinearly there), when both frames have their offsets;
-/// otherwise the cells as selected, at their centres.
+/// place (the offsets interpolated bilinearly there), when both frames have their offsets; at
+/// their centroids, read where they fall, when only the current frame has them (a reference
+/// whose heights stand at its cells' centres, such as dlo-localize's prior map); otherwise the
+/// cells as selected, at their centres.
 const std::vector<SelectedCell>& placed(const FrameLevel& ref, const FrameLevel& cur,
                                         const Eigen::Isometry3d& T,
                                         std::vector<Eigen::Vector2f>* warm = nullptr) {
-  if (ref.grid_offsets.empty() || cur.cell_offsets.size() != cur.cells.size()) return cur.cells;
+  if (cur.cell_offsets.size() != cur.cells.size()) return cur.cells;
   thread_local std::vector<SelectedCell> scratch;
+  if (ref.grid_offsets.empty()) {
+    scratch = cur.cells;
+    for (size_t i = 0; i < scratch.size(); ++i) {
+      scratch[i].x += cur.cell_offsets[i].x();
+      scratch[i].y += cur.cell_offsets[i].y();
+    }
+    return scratch;
+  }
   scratch.resize(cur.cells.size());
   // The previous solutions, target - place, per cell: the pose moves little from one
   // Gauss-Newton iteration to the next, so that they start Newton's method where it nearly

@@ -79,6 +79,8 @@ ExportReport exportAll(const SlamMap& map, const std::string& dir, const ExportO
   voxels.reset();
   const mrpt::maps::CHeightGridMap2D grid = heights.grid();
   run("heightmap.bin", [&](const std::string& p) { exportHeightGridMap(grid, p); });
+  run("heightmap_centroids.bin",
+      [&](const std::string& p) { writeHeightMapCentroids(heights.centroids(), p); });
   run("heightmap.png",
       [&](const std::string& p) { writePng(renderHeightMapImage(grid, map, options.image), p); });
 

@@ -31,6 +31,8 @@ void HeightGridAccumulator::allocate() {
   const size_t cells = grid_->getSizeX() * grid_->getSizeY();
   sum_.assign(cells, 0.0);
   sum_sq_.assign(cells, 0.0);
+  sum_u_.assign(cells, 0.0f);
+  sum_v_.assign(cells, 0.0f);
   count_.assign(cells, 0);
 }
 
@@ -47,6 +49,10 @@ void HeightGridAccumulator::add(const WeightedCloud& world_points) {
     const double n = wp.n, z = wp.p.z();
     sum_[i] += n * z;
     sum_sq_[i] += n * z * z;
+    const double u = (wp.p.x() - grid.getXMin()) / grid.getResolution() - cx;
+    const double v = (wp.p.y() - grid.getYMin()) / grid.getResolution() - cy;
+    sum_u_[i] += static_cast<float>(n * std::clamp(u, 0.0, 1.0));
+    sum_v_[i] += static_cast<float>(n * std::clamp(v, 0.0, 1.0));
     count_[i] += wp.n;
   }
 }
@@ -70,6 +76,20 @@ mrpt::maps::CHeightGridMap2D HeightGridAccumulator::grid() {
     }
   }
   return grid;
+}
+
+HeightMapCentroids HeightGridAccumulator::centroids() {
+  if (!grid_) allocate();
+  HeightMapCentroids c;
+  c.cols = static_cast<std::uint32_t>(grid_->getSizeX());
+  c.rows = static_cast<std::uint32_t>(grid_->getSizeY());
+  c.places.resize(2 * count_.size());
+  for (size_t i = 0; i < count_.size(); ++i) {
+    const double w = static_cast<double>(count_[i]);
+    c.places[2 * i] = HeightMapCentroids::quantise(w > 0 ? sum_u_[i] / w : 0.5);
+    c.places[2 * i + 1] = HeightMapCentroids::quantise(w > 0 ? sum_v_[i] / w : 0.5);
+  }
+  return c;
 }
 
 mrpt::maps::CHeightGridMap2D toHeightGridMap(const WeightedCloud& world_points, double resolution,

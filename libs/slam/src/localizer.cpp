@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <limits>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
 
 #include "dlo/core/deskew.h"
 #include "dlo/core/ground_alignment.h"
@@ -22,6 +23,7 @@
 #include "dlo/core/stage_times.h"
 #include "dlo/core/units.h"
 #include "dlo/files/error.h"
+#include "dlo/formats/height_map_centroids.h"
 #include "dlo/formats/png_file.h"
 #include "dlo/mrpt/pose_conversion.h"
 #include "dlo/slam/lidar_odometry.h"
@@ -102,6 +104,46 @@ std::string LocalizerParams::validate() const {
   return {};
 }
 
+void centreHeights(PriorMap& map) {
+  const std::vector<std::uint8_t>& centroids = map.centroids;
+  const size_t cells = static_cast<size_t>(map.cols) * static_cast<size_t>(map.rows);
+  if (map.count.size() != cells || map.sum.size() != cells || centroids.size() != 2 * cells) {
+    throw std::invalid_argument("centreHeights: the centroids do not match the map's cells");
+  }
+  std::vector<float> height(cells, 0.0f);
+  for (size_t k = 0; k < cells; ++k) {
+    if (map.count[k] > 0) height[k] = map.sum[k] / static_cast<float>(map.count[k]);
+  }
+  const float res = static_cast<float>(map.resolution);
+  // The slope at cell k along one axis (`step` cells to the next one, at index i of n), as the
+  // registration's gradients take it: central differences of the cells' heights, one-sided
+  // beside an empty cell, none between two.
+  const auto slope = [&](size_t k, size_t step, int i, int n) {
+    const bool below = i > 0 && map.count[k - step] > 0;
+    const bool above = i + 1 < n && map.count[k + step] > 0;
+    if (below && above) return (height[k + step] - height[k - step]) / (2.0f * res);
+    if (above) return (height[k + step] - height[k]) / res;
+    if (below) return (height[k] - height[k - step]) / res;
+    return 0.0f;
+  };
+  const size_t row = static_cast<size_t>(map.cols);
+  std::vector<float> centred = map.sum;
+  for (int iy = 0; iy < map.rows; ++iy) {
+    for (int ix = 0; ix < map.cols; ++ix) {
+      const size_t k = static_cast<size_t>(iy) * row + static_cast<size_t>(ix);
+      if (map.count[k] == 0) continue;
+      // The centroid's offset from the centre: the centre lies at minus it.
+      const float dx = (HeightMapCentroids::fraction(centroids[2 * k]) - 0.5f) * res;
+      const float dy = (HeightMapCentroids::fraction(centroids[2 * k + 1]) - 0.5f) * res;
+      const float at_centre =
+          height[k] - slope(k, 1, ix, map.cols) * dx - slope(k, row, iy, map.rows) * dy;
+      centred[k] = at_centre * static_cast<float>(map.count[k]);
+    }
+  }
+  map.sum = std::move(centred);
+  map.heights_at_centres = true;
+}
+
 PriorMap loadPriorMap(const std::string& slam_out_dir) {
   const std::string path = (std::filesystem::path(slam_out_dir) / "map.simplemap").string();
   if (!std::filesystem::exists(path)) {
@@ -163,6 +205,18 @@ PriorMap loadPriorMap(const std::string& slam_out_dir) {
       map.sum[k] = c->h * static_cast<float>(c->w);  // h and w are what MRPT serialises
     }
   }
+  const std::string centroids =
+      (std::filesystem::path(slam_out_dir) / "heightmap_centroids.bin").string();
+  if (std::filesystem::exists(centroids)) {
+    HeightMapCentroids c = readHeightMapCentroids(centroids);
+    if (c.cols != static_cast<std::uint32_t>(map.cols) ||
+        c.rows != static_cast<std::uint32_t>(map.rows)) {
+      throw InputError("map '" + centroids + "' has " + std::to_string(c.cols) + " x " +
+                       std::to_string(c.rows) + " cells, but '" + heights + "' has " +
+                       std::to_string(map.cols) + " x " + std::to_string(map.rows) + ".");
+    }
+    map.centroids = std::move(c.places);
+  }
   return map;
 }
 
@@ -173,9 +227,17 @@ Localizer::Localizer(PriorMap map, const LocalizerParams& params, const SlamPara
       grid_(gridFor(slam, map_.resolution, params.cells, 6)),
       aligner_(grid_.solver) {
   grid_.selection.block_size = 1;
-  // The map's window keeps no centroids of its cells: a scan's cells are compared with it at
-  // their centres, as the map's are (HeightFrame::placeCellsOnCentroids()).
-  grid_.selection.centroid_levels = 0;
+  // Where the sensor profile places a scan's cells at the centroids of their points
+  // (selection.centroid_levels, HeightFrame::placeCellsOnCentroids()), the map's heights are
+  // moved to their cells' centres, where its window is read: both sides are then compared where
+  // they were measured. Otherwise, or for a map without its centroids, both sides are compared
+  // at their cells' centres.
+  if (grid_.selection.centroid_levels > 0 && !map_.centroids.empty() && !map_.heights_at_centres) {
+    centreHeights(map_);
+  }
+  map_.centroids.clear();
+  map_.centroids.shrink_to_fit();
+  if (!map_.heights_at_centres) grid_.selection.centroid_levels = 0;
   while (tracking_levels_ < grid_.grid.levels &&
          map_.resolution * (1 << tracking_levels_) <= params_.tracking_basin + 1e-9) {
     ++tracking_levels_;

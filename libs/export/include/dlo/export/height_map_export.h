@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "dlo/core/weighted_cloud.h"
+#include "dlo/formats/height_map_centroids.h"
 #include "dlo/slam/slam_map.h"
 
 namespace dlo {
@@ -35,6 +36,9 @@ class HeightGridAccumulator {
   void add(const WeightedCloud& world_points);
   /// The finished grid (cells with mean, sums and variance as toHeightGridMap() describes).
   mrpt::maps::CHeightGridMap2D grid();
+  /// Where the points of each of grid()'s cells lie in it, weighted as the heights are
+  /// (`heightmap_centroids.bin`).
+  HeightMapCentroids centroids();
 
  private:
   void allocate();
@@ -44,6 +48,9 @@ class HeightGridAccumulator {
   std::optional<mrpt::maps::CHeightGridMap2D> grid_;
   // Sums in double: a cell can gather thousands of points, float sums of z^2 would drift.
   std::vector<double> sum_, sum_sq_;
+  /// Per cell, the sums of where its points fell along its columns and rows (fractions of it,
+  /// weighted): float is plenty for a place written in 256ths of the cell.
+  std::vector<float> sum_u_, sum_v_;
   std::vector<std::uint64_t> count_;
 };
 

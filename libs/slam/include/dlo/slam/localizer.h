@@ -36,11 +36,28 @@ struct PriorMap {
   int cols = 0, rows = 0;
   std::vector<std::uint32_t> count;
   std::vector<float> sum;
+  /// Per cell, where its points lie in it (HeightMapCentroids::places, 2 bytes per cell, from
+  /// heightmap_centroids.bin), or empty: a map made before dlo-slam wrote them.
+  std::vector<std::uint8_t> centroids;
+  /// The heights stand at their cells' centres (centreHeights()), not at their points'
+  /// centroids.
+  bool heights_at_centres = false;
   size_t size() const { return poses.size(); }
 };
 
-/// Reads a dlo-slam output folder: the keyframes of its map.simplemap and its heightmap.bin.
-/// \throws InputError naming the file if one is missing, unreadable or holds nothing.
+/// Moves the mean height of every measured cell of `map` from the centroid of its points, where
+/// it was measured (map.centroids), to the cell's centre, along the height map's local slope
+/// (central differences of the neighbouring cells' heights, as the registration's gradients
+/// take them; one-sided beside an empty cell, none between two). Compared at cell centres, a
+/// mean height carries a bias wherever a cell's points lie to one side of it (a wall's face, a
+/// ring crossing a kerb) that pulls a registration by centimetres. Sets map.heights_at_centres.
+/// \throws std::invalid_argument if map.centroids does not hold two bytes per cell.
+void centreHeights(PriorMap& map);
+
+/// Reads a dlo-slam output folder: the keyframes of its map.simplemap, its heightmap.bin and,
+/// where the folder has one, its heightmap_centroids.bin (PriorMap::centroids).
+/// \throws InputError naming the file if one is missing (the centroids may be), unreadable,
+/// holds nothing or (the centroids) does not match the height map.
 PriorMap loadPriorMap(const std::string& slam_out_dir);
 
 /// How the Localizer registers scans against the prior map and when it believes them. dlo-localize
