@@ -102,6 +102,6 @@ TEST(AtomicExport, EmptyMapStillExportsEveryFile) {
   options.render = false;
   const dlo::ExportReport report = dlo::exportAll(dlo::SlamMap(), folder.path().string(), options);
   EXPECT_TRUE(report.warnings.empty()) << report.warnings.front();
-  // trajectory (2), graph, simplemap, height map (2), occupancy grid (3), PLY, scene.
-  EXPECT_EQ(report.written.size(), 11u);
+  // trajectory (2), graph, simplemap, height map (3), occupancy grid (3), PLY, scene.
+  EXPECT_EQ(report.written.size(), 12u);
 }

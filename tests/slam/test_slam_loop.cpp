@@ -272,7 +272,7 @@ TEST_F(SimulatedLoop, EveryOutputIsWrittenAndLoadsBack) {
   for (const std::string& w : report.warnings) ADD_FAILURE() << w;
   for (const char* name :
        {"trajectory.tum", "trajectory.kitti", "keyframes.graph", "map.simplemap", "heightmap.bin",
-        "heightmap.png", "map.ply", "map.3Dscene", "map_render.png"}) {
+        "heightmap_centroids.bin", "heightmap.png", "map.ply", "map.3Dscene", "map_render.png"}) {
     EXPECT_TRUE(fs::exists(out / name)) << name;
   }
   mrpt::graphs::CNetworkOfPoses3DInf graph;
