@@ -37,7 +37,8 @@ struct PriorMap {
   std::vector<std::uint32_t> count;
   std::vector<float> sum;
   /// Per cell, where its points lie in it (HeightMapCentroids::places, 2 bytes per cell, from
-  /// heightmap_centroids.bin), or empty: a map made before dlo-slam wrote them.
+  /// heightmap_centroids.bin), or empty: a map made before dlo-slam wrote them. The Localizer
+  /// uses them once (centreHeights()) and keeps its map without them.
   std::vector<std::uint8_t> centroids;
   /// The heights stand at their cells' centres (centreHeights()), not at their points'
   /// centroids.
