@@ -10,6 +10,7 @@
 
 #include "dlo/files/atomic_file.h"
 #include "dlo/files/error.h"
+#include "gz_file.h"
 
 namespace dlo {
 
@@ -29,17 +30,6 @@ std::uint32_t getU32(const unsigned char* in) {
   for (int i = 0; i < 4; ++i) v |= static_cast<std::uint32_t>(in[i]) << (8 * i);
   return v;
 }
-
-/// A gzip file, closed on every path.
-struct Gz {
-  gzFile file;
-  Gz(const std::string& path, const char* mode) : file(gzopen(path.c_str(), mode)) {}
-  ~Gz() {
-    if (file) gzclose(file);
-  }
-  Gz(const Gz&) = delete;
-  Gz& operator=(const Gz&) = delete;
-};
 
 /// Reads exactly `n` bytes; false at the end of the data or on corrupt data.
 bool readAll(gzFile file, unsigned char* out, std::uint64_t n) {
@@ -68,7 +58,7 @@ void writeHeightMapCentroids(const HeightMapCentroids& centroids, const std::str
                       " cells).");
   }
   writeAtomically(path, [&](const std::string& temp) {
-    Gz out(temp, "wb1");
+    GzFile out(temp, "wb1");
     if (!out.file) throw std::runtime_error("cannot create '" + temp + "'");
     std::array<unsigned char, kHeaderBytes> header{};
     std::memcpy(header.data(), kMagic.data(), kMagic.size());
@@ -89,7 +79,7 @@ void writeHeightMapCentroids(const HeightMapCentroids& centroids, const std::str
 
 HeightMapCentroids readHeightMapCentroids(const std::string& path) {
   if (!std::filesystem::exists(path)) throw InputError("'" + path + "' does not exist.");
-  Gz in(path, "rb");
+  GzFile in(path);
   if (!in.file) throw InputError("cannot open '" + path + "'.");
   std::array<unsigned char, kHeaderBytes> header{};
   if (!readAll(in.file, header.data(), header.size()) ||

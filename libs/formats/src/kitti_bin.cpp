@@ -7,23 +7,9 @@
 #include <fstream>
 
 #include "dlo/files/error.h"
+#include "gz_file.h"
 
 namespace dlo {
-
-namespace {
-
-/// A gzip (or plain: zlib reads those through) file open for reading, closed on every path.
-struct GzFile {
-  gzFile file;
-  explicit GzFile(const std::string& path) : file(gzopen(path.c_str(), "rb")) {}
-  ~GzFile() {
-    if (file) gzclose(file);
-  }
-  GzFile(const GzFile&) = delete;
-  GzFile& operator=(const GzFile&) = delete;
-};
-
-}  // namespace
 
 std::vector<float> readKittiBinRecords(const std::string& path) {
   if (!std::ifstream(path, std::ios::binary)) {
