@@ -44,7 +44,10 @@ const std::vector<ParamField<DloParams>>& fields() {
             "the finest levels whose cells are compared where their points are (their "
             "centroids), in the scan and the reference alike, so that a cell a spinning "
             "sensor's ring samples on one side (a kerb's edge) is not biased by the part it did "
-            "not see (ignored against the scan map); 0: at the cells' centres (the paper)"),
+            "not see (ignored against the scan map); 0: at the cells' centres (the paper). "
+            "dlo-localize: above 0, the scan's cells at their centroids against the map's "
+            "heights moved to its cells' centres (from the map's heightmap_centroids.bin; a map "
+            "without it is compared at the centres)"),
       field("solver", "dof", &D::solver, &V::dof,
             "3 (x, y, yaw) or 6 (full SE(3), z, roll and pitch observed from the ground)"),
       field("solver", "max_iterations", &D::solver, &V::max_iterations, "per pyramid level"),
