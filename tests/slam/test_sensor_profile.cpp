@@ -151,7 +151,7 @@ TEST(RingCount, SimulatedSweepsShowTheirSensorsRingsSeenFromTheSensor) {
   }
 }
 
-TEST(VisibilityCeiling, IsWhatTheHighestBeamSeesAtTheGridsEdge) {
+TEST(VisibilityCeiling, IsWhatTheSensorSeesFromEveryRangeOfTheGrid) {
   // Upper beams: HDL-64 +2 deg, HDL-32 +10.67 deg, VLP-16 +15 deg.
   for (const auto& [type, top] :
        {std::pair{sim::SensorType::VLP16, 15.0}, std::pair{sim::SensorType::HDL32, 10.67},
@@ -166,18 +166,37 @@ TEST(VisibilityCeiling, IsWhatTheHighestBeamSeesAtTheGridsEdge) {
     // Off in the sparse profile.
     EXPECT_EQ(p.odometry.visibility_ceiling, profile == "dense") << top;
     p.odometry.visibility_ceiling = true;
-    const double half_width = 0.5 * p.registration.grid.cols * p.registration.grid.resolution;
-    const double expected =
-        e.sensor_height + half_width * std::tan(e.top_elevation_deg * M_PI / 180);
     const VisibilityCeiling c = applyVisibilityCeiling(p, e);
-    // The dense HDL-64 is cut 2.5 m above the ground; the sparse sensors, on their 60 m grid,
-    // see up to 7.5 m (HDL-32) and 10 m (VLP-16) at its edge.
-    if (profile == "dense") {
-      EXPECT_NEAR(c.max_z, 2.5, 0.05);
-    }
-    EXPECT_EQ(c.applied, expected < 10.0) << top;
-    EXPECT_NEAR(p.registration.grid.max_z, std::min(10.0, expected), 1e-9) << top;
+    // Every beam that looks up sees a wall up to the sensor's own height from any range: the
+    // grid keeps that and the band above it, which the HDL-64's +2 deg beam reaches at the
+    // grid's edge (20 m): 2.5 m above the ground for these sensors 1.8 m up.
+    const double half_width = 0.5 * p.registration.grid.cols * p.registration.grid.resolution;
+    EXPECT_TRUE(c.applied) << top;
+    EXPECT_NEAR(c.max_z,
+                e.sensor_height + std::min(p.odometry.ceiling_above_sensor,
+                                           half_width * std::tan(e.top_elevation_deg * M_PI / 180)),
+                1e-9)
+        << top;
+    EXPECT_NEAR(c.max_z, 2.5, 0.05) << top;
     EXPECT_DOUBLE_EQ(c.max_z, p.registration.grid.max_z);
+  }
+  {
+    // A sensor tilted down, whose highest beam looks 1 deg below the horizontal, sees less at the
+    // grid's edge than at its foot: the ceiling is what it sees there.
+    SensorEvidence down;
+    down.sensor_height = 1.8;
+    down.top_elevation_deg = -1.0;
+    SlamParams p = resolveSlamParams("dense", {});
+    const double half_width = 0.5 * p.registration.grid.cols * p.registration.grid.resolution;
+    const VisibilityCeiling c = applyVisibilityCeiling(p, down);
+    EXPECT_TRUE(c.applied);
+    EXPECT_NEAR(c.max_z, 1.8 - half_width * std::tan(M_PI / 180), 1e-9);
+    // The band is the user's: 0.5 m keeps 2.3 m for a sensor that looks up.
+    SlamParams wide = resolveSlamParams("dense", {});
+    wide.odometry.ceiling_above_sensor = 0.5;
+    SensorEvidence up = down;
+    up.top_elevation_deg = 15.0;
+    EXPECT_NEAR(applyVisibilityCeiling(wide, up).max_z, 2.3, 1e-9);
   }
   // Off, or without evidence, nothing changes.
   Eigen::Isometry3d sensor_pose;

@@ -65,7 +65,10 @@ VisibilityCeiling applyVisibilityCeiling(SlamParams& params, const SensorEvidenc
   if (!params.odometry.visibility_ceiling || !std::isfinite(e.top_elevation_deg)) return c;
   const double half_width = 0.5 * std::min(g.cols, g.rows) * g.resolution;
   const double top = std::clamp(e.top_elevation_deg, -60.0, 60.0) * M_PI / 180.0;
-  const double ceiling = e.sensor_height + half_width * std::tan(top);
+  // The height seen from every range up to the grid's edge: the sensor's own (plus the margin)
+  // for a highest beam at or above the horizontal, what it reaches at the edge for one below.
+  const double ceiling =
+      e.sensor_height + std::min(params.odometry.ceiling_above_sensor, half_width * std::tan(top));
   if (ceiling < g.max_z && ceiling > g.min_z) {
     g.max_z = ceiling;
     c.max_z = ceiling;

@@ -34,11 +34,18 @@ std::vector<ParamField<SlamParams>> fields() {
                  "3-DoF); ignored with solver.dof = 6, which solves all six jointly",
                  booleanNames()),
       paramField("odometry", "visibility_ceiling", &S::odometry, &O::visibility_ceiling,
-                 "true: heights above what the sensor sees everywhere on the grid are left out "
-                 "(grid.max_z lowered to the sensor's height + half the grid's width x tan(its "
-                 "highest beam), read off the first scan), so that a wall has the same mean "
-                 "height from every range; false: grid.max_z as set (the sparse profile)",
+                 "true: heights above what the sensor sees from every range on the grid are "
+                 "left out (grid.max_z lowered to the sensor's height + ceiling_above_sensor, or "
+                 "to what its highest beam reaches at the grid's edge where that is lower, read "
+                 "off the first scan), so that a "
+                 "wall has the same mean height from every range; false: grid.max_z as set (the "
+                 "sparse profile)",
                  booleanNames()),
+      paramField("odometry", "ceiling_above_sensor", &S::odometry, &O::ceiling_above_sensor,
+                 "metres; with visibility_ceiling, the band kept above the sensor's height: a "
+                 "beam at or above the horizontal sees a wall up to the sensor's height from "
+                 "any range, higher only from far enough away; the band trades what near walls "
+                 "lose against ground rising ahead over a crest"),
       paramField("odometry", "local_map_keyframes", &S::odometry, &O::local_map_keyframes,
                  "the most recent keyframes fused into the local map (reference = "
                  "keyframe_map), at most; more of them dilute the pattern of rings that travels "

@@ -42,6 +42,8 @@ std::string SlamParams::validate() const {
                       "0 (off) or a positive height in metres");
   if (!(o.keyframe_rms_ratio == 0.0 || o.keyframe_rms_ratio >= 1.0))
     return outOfRange("odometry.keyframe_rms_ratio", o.keyframe_rms_ratio, "0 (off) or >= 1");
+  if (!(o.ceiling_above_sensor >= 0.0 && o.ceiling_above_sensor <= 10.0))
+    return outOfRange("odometry.ceiling_above_sensor", o.ceiling_above_sensor, "[0, 10] metres");
   if (!(o.keyframe_voxel >= 0.0 && o.keyframe_voxel <= 1.0))
     return outOfRange("odometry.keyframe_voxel", o.keyframe_voxel,
                       "[0, 1] metres (0: no decimation)");

@@ -91,11 +91,11 @@ SensorEvidence sensorEvidence(const PointCloud& points, int beams,
 SensorProfileChoice chooseSensorProfile(const SensorEvidence& evidence);
 
 /// With params.odometry.visibility_ceiling, lowers params.registration.grid.max_z to the
-/// height the sensor sees up to at the grid's edge: sensor_height + (half the grid's narrower
-/// side) x tan(top_elevation_deg), so that every cell's height band is seen whole from anywhere
-/// on the grid (a simulated HDL-64 on a 40 m grid: 2.5 m above the ground; a VLP-16 or a
-/// 128-beam sensor on the sparse profile's 60 m grid: about 10 m, as the usual band). No-op
-/// when the evidence has no top elevation or the ceiling is off (the sparse profile).
+/// height the sensor sees from every range up to the grid's edge: sensor_height +
+/// min(odometry.ceiling_above_sensor, (half the grid's narrower side) x tan(top_elevation_deg)),
+/// so that every cell's height band is seen whole from anywhere on the grid (a simulated HDL-64
+/// or Ouster-like sensor 1.8 m up: 2.5 m above the ground). No-op when the evidence has no top
+/// elevation or the ceiling is off (the sparse profile).
 VisibilityCeiling applyVisibilityCeiling(SlamParams& params, const SensorEvidence& evidence);
 
 /// A run's configuration below the profile: an INI file and "section.key=value" overrides.

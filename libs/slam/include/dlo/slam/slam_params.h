@@ -30,15 +30,22 @@ struct OdometryParams {
   /// predicted, the paper's planar 3-DoF odometry. solver.dof = 6 solves all six jointly and
   /// ignores this.
   bool levelling = true;
-  /// true: heights above what the sensor sees everywhere on the registration grid are left out
-  /// (grid.max_z lowered to the sensor's height plus half the grid's width times the tangent of
-  /// its highest beam, both read off the first scan: dlo::applyVisibilityCeiling). A wall then
-  /// has the same mean height from every range within the grid, instead of growing with the
-  /// distance as an HDL-64's +2 deg beam climbs it, which pulls registrations towards zero
-  /// motion. Applied by dlo-slam, which knows the sensor's pose; dlo-localize keeps whole
-  /// heights, as the map it reads does. Off in the sparse profile (config/sensors/sparse.ini):
-  /// sparse sensors look up 10-15 deg and see walls whole from most ranges.
+  /// true: heights above what the sensor sees from every range on the registration grid are
+  /// left out (grid.max_z lowered to the sensor's height plus ceiling_above_sensor, or to what
+  /// its highest beam reaches at the grid's edge where that is lower, both read off the first
+  /// scan: dlo::applyVisibilityCeiling). A wall then has the same mean height from every range
+  /// within the grid, instead of growing with the distance as the sensor's upper beams climb it,
+  /// which pulls registrations towards zero motion. Applied by dlo-slam, which knows the sensor's
+  /// pose; dlo-localize keeps whole heights, as the map it reads does. Off in the sparse profile
+  /// (config/sensors/sparse.ini): sparse scans have too few cells to lose the walls' upper parts.
   bool visibility_ceiling = true;
+  /// Metres: with visibility_ceiling, the band kept above the sensor's own height. A beam at or
+  /// above the horizontal sees a wall up to the sensor's height from any range, and above it only
+  /// from far enough away (an Ouster-like sensor's +22.5 deg beam: from 5 m up to 2 m above
+  /// itself, from 20 m up to 8 m). The band trades what near walls lose above the sensor
+  /// against ground that rises ahead over a crest; 0.7 m is what an HDL-64's +2 deg beam reaches
+  /// at the dense grid's edge. Measurements: docs/benchmarks.md.
+  double ceiling_above_sensor = 0.7;
   /// Keyframes fused into the local map (reference = keyframe_map), at most. Each keyframe's
   /// pattern of rings travels with the sensor and pulls a scan towards where that keyframe was
   /// taken; keyframes taken close together (by angle, turning on the spot) add such patterns at
