@@ -37,9 +37,8 @@ std::vector<ParamField<SlamParams>> fields() {
                  "true: heights above what the sensor sees from every range on the grid are "
                  "left out (grid.max_z lowered to the sensor's height + ceiling_above_sensor, or "
                  "to what its highest beam reaches at the grid's edge where that is lower, read "
-                 "off the first scan), so that a "
-                 "wall has the same mean height from every range; false: grid.max_z as set (the "
-                 "sparse profile)",
+                 "off the first scan), so that a wall has the same mean height from every range; "
+                 "false: grid.max_z as set (the sparse profile)",
                  booleanNames()),
       paramField("odometry", "ceiling_above_sensor", &S::odometry, &O::ceiling_above_sensor,
                  "metres; with visibility_ceiling, the band kept above the sensor's height: a "
