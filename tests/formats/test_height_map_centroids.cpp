@@ -1,13 +1,13 @@
 // heightmap_centroids.bin: written and read back, and every kind of bad file refused with one
 // InputError naming it.
 #include <gtest/gtest.h>
-#include <unistd.h>
 #include <zlib.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "../temp_dir.h"
 #include "dlo/files/error.h"
 #include "dlo/formats/height_map_centroids.h"
 
@@ -18,13 +18,7 @@ namespace fs = std::filesystem;
 
 class CentroidFile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("dlo_centroid_file_test_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string path(const std::string& name) const { return tmp_.path(name); }
   /// The message of the InputError that reading `file` throws, or "" if it throws none.
   static std::string readError(const std::string& file) {
     try {
@@ -41,7 +35,7 @@ class CentroidFile : public ::testing::Test {
     if (!bytes.empty()) gzwrite(out, bytes.data(), static_cast<unsigned>(bytes.size()));
     gzclose(out);
   }
-  fs::path dir_;
+  test::TempDir tmp_;
 };
 
 /// A 3 x 2 grid whose places count up from 0 in steps of 40.

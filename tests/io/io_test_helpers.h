@@ -11,26 +11,10 @@
 #include <string>
 
 #include "../kitti_scan_points.h"
+#include "../temp_dir.h"
 #include "../test_data.h"
 
 namespace dlo::test {
-
-/// A temporary folder for one test, removed with it.
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::path(testing::TempDir()) /
-           ("dlo_io_" + std::string(info->test_suite_name()) + "_" + info->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  ~TempDir() { std::filesystem::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
- private:
-  std::filesystem::path dir_;
-};
 
 /// Every `step`-th point of the real HDL-64 scan (with reflectance): small enough for quick
 /// rawlog round trips, still real structure.

@@ -2,7 +2,6 @@
 // height map's heights moved from their centroids to their cells' centres. The Localizer itself
 // is tested on simulated drives in test_slam_loop.cpp.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,6 +9,7 @@
 #include <fstream>
 #include <string>
 
+#include "../temp_dir.h"
 #include "dlo/export/export_all.h"
 #include "dlo/export/simple_map_export.h"
 #include "dlo/files/error.h"
@@ -33,13 +33,8 @@ std::string loadError(const fs::path& dir) {
 
 class PriorMapFolder : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("dlo_prior_map_test_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  test::TempDir tmp_;
+  const fs::path& dir_ = tmp_.dir();
 };
 
 TEST_F(PriorMapFolder, AFolderWithoutAMapNamesMapSimplemap) {
