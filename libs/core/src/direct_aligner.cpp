@@ -319,13 +319,22 @@ bool refine(const SolverParams& p, const HeightFrame& reference, const HeightFra
     double gain = 1.0;
     Vector6d previous = Vector6d::Zero();
     converged = false;
+    const FrameLevel& ref_level = reference.levels()[level];
+    const FrameLevel& cur_level = current.levels()[level];
+    // Against a reference whose heights stand at its cells' centres (dlo-localize's prior map)
+    // the cells stand at their centroids whatever the pose: placed once per level, not at every
+    // iteration.
+    thread_local std::vector<SelectedCell> at_centroids;
+    const bool pose_free = ref_level.grid_offsets.empty() && !cur_level.cells.empty() &&
+                           cur_level.cell_offsets.size() == cur_level.cells.size();
+    if (pose_free) at_centroids = placed(ref_level, cur_level, T);
     for (int it = 0; it < p.max_iterations && !converged; ++it) {
       // Where the cells stand in the reference follows the pose (placed()).
-      const NormalEquations<N> eq =
-          linearise<N>(sampler,
-                       placed(reference.levels()[level], current.levels()[level], T,
-                              &warm[static_cast<size_t>(level)]),
-                       T, delta, p.max_residual);
+      const NormalEquations<N> eq = linearise<N>(
+          sampler,
+          pose_free ? at_centroids
+                    : placed(ref_level, cur_level, T, &warm[static_cast<size_t>(level)]),
+          T, delta, p.max_residual);
       const ConditionedSystem<N> sys(eq, p, kMinResiduals<N>);
       Vector6d xi = toTwist<N>(sys.step(0.0));
       // A step that turns back on the previous one is the signature of a limit cycle.
