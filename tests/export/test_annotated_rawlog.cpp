@@ -13,10 +13,10 @@
 #include <filesystem>
 #include <vector>
 
+#include "../temp_dir.h"
 #include "dlo/core/rigid_transform.h"
 #include "dlo/export/annotated_rawlog.h"
 #include "dlo/mrpt/pose_conversion.h"
-#include "export_folder.h"
 
 namespace dlo {
 namespace {
@@ -104,8 +104,8 @@ TEST(Emulated2DScan, AnEmptyScanGivesRaysWithNoReturn) {
 }
 
 TEST(AnnotatedRawlog, MrptReadsBackTheMotionsTheScansAndTheirTimes) {
-  test::ExportFolder folder("annotated");
-  const std::string path = (folder.path() / "drive.rawlog").string();
+  test::TempDir folder("annotated");
+  const std::string path = (folder.dir() / "drive.rawlog").string();
   // Four scans of a KITTI-like input (no MRPT observation): a drive that climbs and turns.
   std::vector<Eigen::Isometry3d> poses;
   for (int i = 0; i < 4; ++i)
@@ -154,8 +154,8 @@ TEST(AnnotatedRawlog, MrptReadsBackTheMotionsTheScansAndTheirTimes) {
 }
 
 TEST(AnnotatedRawlog, AWriterDroppedBeforeCommitKeepsWhatItWroteAsPartial) {
-  test::ExportFolder folder("annotated_partial");
-  const std::string path = (folder.path() / "drive.rawlog").string();
+  test::TempDir folder("annotated_partial");
+  const std::string path = (folder.dir() / "drive.rawlog").string();
   {
     AnnotatedRawlogWriter writer(path);
     TimedScan scan;

@@ -4,12 +4,12 @@
 
 #include <fstream>
 
+#include "../temp_dir.h"
 #include "dlo/export/export_all.h"
 #include "dlo/export/pose_graph_export.h"
 #include "dlo/export/simple_map_export.h"
 #include "dlo/export/trajectory_export.h"
 #include "dlo/files/atomic_file.h"
-#include "export_folder.h"
 #include "synthetic_map.h"
 
 namespace fs = std::filesystem;
@@ -30,8 +30,8 @@ std::string readAll(const std::string& path) {
 }  // namespace
 
 TEST(AtomicExport, MissingFolderIsNamedAndNothingIsCreated) {
-  dlo::test::ExportFolder folder("missing");
-  const std::string dir = folder.file("does/not/exist");
+  dlo::test::TempDir folder("missing");
+  const std::string dir = folder.path("does/not/exist");
   try {
     dlo::exportAll(smallMap(), dir);
     FAIL() << "no exception";
@@ -39,28 +39,28 @@ TEST(AtomicExport, MissingFolderIsNamedAndNothingIsCreated) {
     EXPECT_NE(std::string(e.what()).find(dir), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists(dir));
-  EXPECT_TRUE(fs::is_empty(folder.path()));
+  EXPECT_TRUE(fs::is_empty(folder.dir()));
 }
 
 TEST(AtomicExport, FolderThatIsAFileIsRejected) {
-  dlo::test::ExportFolder folder("file");
-  std::ofstream(folder.file("plain")) << "x";
-  EXPECT_THROW(dlo::exportAll(smallMap(), folder.file("plain")), dlo::OutputError);
+  dlo::test::TempDir folder("file");
+  std::ofstream(folder.path("plain")) << "x";
+  EXPECT_THROW(dlo::exportAll(smallMap(), folder.path("plain")), dlo::OutputError);
 }
 
 TEST(AtomicExport, ReadOnlyFolderIsRejectedWithoutPartialFiles) {
   if (::geteuid() == 0) GTEST_SKIP() << "root can write into read-only folders";
-  dlo::test::ExportFolder folder("readonly");
-  fs::permissions(folder.path(), fs::perms::owner_read | fs::perms::owner_exec);
-  EXPECT_THROW(dlo::exportAll(smallMap(), folder.path().string()), dlo::OutputError);
-  fs::permissions(folder.path(), fs::perms::owner_all);
-  EXPECT_TRUE(fs::is_empty(folder.path()));
+  dlo::test::TempDir folder("readonly");
+  fs::permissions(folder.dir(), fs::perms::owner_read | fs::perms::owner_exec);
+  EXPECT_THROW(dlo::exportAll(smallMap(), folder.dir().string()), dlo::OutputError);
+  fs::permissions(folder.dir(), fs::perms::owner_all);
+  EXPECT_TRUE(fs::is_empty(folder.dir()));
 }
 
 TEST(AtomicExport, EachWriterNamesItsFileAndLeavesNoTemporary) {
-  dlo::test::ExportFolder folder("writers");
+  dlo::test::TempDir folder("writers");
   const dlo::SlamMap map = smallMap();
-  const std::string dir = folder.file("gone");
+  const std::string dir = folder.path("gone");
   const std::vector<std::pair<std::string, std::function<void(const std::string&)>>> writers = {
       {"trajectory.tum", [&](const std::string& p) { dlo::exportTrajectoryTum(map, p); }},
       {"trajectory.kitti", [&](const std::string& p) { dlo::exportTrajectoryKitti(map, p); }},
@@ -77,12 +77,12 @@ TEST(AtomicExport, EachWriterNamesItsFileAndLeavesNoTemporary) {
       EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
     }
   }
-  EXPECT_TRUE(fs::is_empty(folder.path()));
+  EXPECT_TRUE(fs::is_empty(folder.dir()));
 }
 
 TEST(AtomicExport, FailedWriteKeepsThePreviousFile) {
-  dlo::test::ExportFolder folder("keep");
-  const std::string path = folder.file("out.txt");
+  dlo::test::TempDir folder("keep");
+  const std::string path = folder.path("out.txt");
   std::ofstream(path) << "previous";
   EXPECT_THROW(dlo::writeAtomically(path,
                                     [](const std::string& temp) {
@@ -97,10 +97,10 @@ TEST(AtomicExport, FailedWriteKeepsThePreviousFile) {
 }
 
 TEST(AtomicExport, EmptyMapStillExportsEveryFile) {
-  dlo::test::ExportFolder folder("empty");
+  dlo::test::TempDir folder("empty");
   dlo::ExportOptions options;
   options.render = false;
-  const dlo::ExportReport report = dlo::exportAll(dlo::SlamMap(), folder.path().string(), options);
+  const dlo::ExportReport report = dlo::exportAll(dlo::SlamMap(), folder.dir().string(), options);
   EXPECT_TRUE(report.warnings.empty()) << report.warnings.front();
   // trajectory (2), graph, simplemap, height map (3), occupancy grid (3), PLY, scene.
   EXPECT_EQ(report.written.size(), 12u);

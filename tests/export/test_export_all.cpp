@@ -19,13 +19,13 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
+#include "../temp_dir.h"
 #include "dlo/export/export_all.h"
 #include "dlo/export/height_map_export.h"
 #include "dlo/formats/height_map_centroids.h"
 #include "dlo/formats/ply_file.h"
 #include "dlo/metrics/trajectory_io.h"
 #include "dlo/mrpt/pose_conversion.h"
-#include "export_folder.h"
 #include "synthetic_map.h"
 
 namespace fs = std::filesystem;
@@ -52,15 +52,15 @@ class ExportAll : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     map_ = new dlo::SlamMap(dlo::test::makeSyntheticMap());
-    folder_ = new dlo::test::ExportFolder("all");
-    report_ = new dlo::ExportReport(dlo::exportAll(*map_, folder_->path().string()));
+    folder_ = new dlo::test::TempDir("all");
+    report_ = new dlo::ExportReport(dlo::exportAll(*map_, folder_->dir().string()));
   }
   static void TearDownTestSuite() {
     delete report_;
     delete folder_;
     delete map_;
   }
-  static std::string file(const std::string& name) { return folder_->file(name); }
+  static std::string file(const std::string& name) { return folder_->path(name); }
   /// The warning about `name`, or "" if it was written.
   static std::string warningAbout(const std::string& name) {
     for (const std::string& w : report_->warnings) {
@@ -70,12 +70,12 @@ class ExportAll : public ::testing::Test {
   }
 
   static dlo::SlamMap* map_;
-  static dlo::test::ExportFolder* folder_;
+  static dlo::test::TempDir* folder_;
   static dlo::ExportReport* report_;
 };
 
 dlo::SlamMap* ExportAll::map_ = nullptr;
-dlo::test::ExportFolder* ExportAll::folder_ = nullptr;
+dlo::test::TempDir* ExportAll::folder_ = nullptr;
 dlo::ExportReport* ExportAll::report_ = nullptr;
 
 /// Output of a shell command and its exit status.
@@ -100,7 +100,7 @@ TEST_F(ExportAll, WritesEveryFileAndNoTemporaryOnes) {
               report_->written.end())
         << name;
   }
-  for (const auto& entry : fs::directory_iterator(folder_->path())) {
+  for (const auto& entry : fs::directory_iterator(folder_->dir())) {
     EXPECT_NE(entry.path().extension(), ".tmp") << entry.path();
   }
 }
@@ -281,7 +281,7 @@ TEST_F(ExportAll, MrptsRosMapConverterRebuildsTheGridmapFromThePngAndYaml) {
   // map.gridmap: the image's orientation, the origin and the resolution agree.
   if (!fs::exists("/usr/bin/ros-map-yaml2mrpt"))
     GTEST_SKIP() << "ros-map-yaml2mrpt (apt mrpt-apps) missing";
-  const fs::path converted = folder_->path() / "converted";
+  const fs::path converted = folder_->dir() / "converted";
   fs::create_directories(converted);
   const auto [out, status] =
       run("/usr/bin/ros-map-yaml2mrpt -q -w -i " + file("map.yaml") + " -d " + converted.string());
