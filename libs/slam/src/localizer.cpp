@@ -53,6 +53,13 @@ constexpr int kConfirmations = 2;
 /// next prediction and the sweep's deskewing, and the poses oscillated about the path. Over a
 /// turn of constant rate, the twist over several intervals is the same as over one.
 constexpr size_t kVelocityIntervals = 3;
+/// The localised scans that measure the map's velocity for a second start (Localizer::
+/// mapVelocity()) lie at most kMaxAgeIntervals intervals before the current scan, the newest at
+/// most kMaxGapIntervals, and span two intervals at least (kMinSpanIntervals, with the
+/// intervals' jitter).
+constexpr double kMaxAgeIntervals = kVelocityIntervals + 2.5;
+constexpr double kMaxGapIntervals = 2.5;
+constexpr double kMinSpanIntervals = 1.5;
 /// A search needs this many distinct places that fit at all to judge the best against them.
 constexpr size_t kMinBasins = 5;
 
@@ -275,6 +282,7 @@ LocalizationStep Localizer::processScan(double time, const PointCloud& points,
   // motion bridges the scans the map does not localise.
   bool from_map = params_.bridge_only && tracking_ && probation_ == 0 &&
                   recent_poses_.size() > kVelocityIntervals && dt > 0.0 && dt < 1.0;
+  const bool map_start = from_map;
   Eigen::Isometry3d moved = expSE3(velocity_ * std::max(dt, 0.0));
   const std::vector<float>* times = nullptr;
   // The odometry on this scan: its motion since the last scan, its velocity and point times. A
@@ -335,16 +343,23 @@ LocalizationStep Localizer::processScan(double time, const PointCloud& points,
       predicted = last_pose_ * moved;
       believed = trackFrom(predicted, step);
     }
-    if (!believed && !from_map && recent_poses_.size() > kVelocityIntervals && dt > 0.0 &&
-        dt < 1.0) {
-      // The odometry's motion did not carry the vehicle to a believable fit, though the map has
-      // localised the last scans in a row: the motion those measure is a second start, and the
-      // scan is deskewed with it. A sparse odometry can jump: a simulated VLP-16 patrol's moved
-      // 4.7 m in one scan after a turn on the spot, and its next scans were lost until a search.
+    // The odometry's motion did not carry the vehicle to a believable fit: the motion the map
+    // measured over its last localised scans is a second start, and the scan is deskewed with
+    // it. A sparse odometry can jump: a simulated VLP-16 patrol's moved 4.7 m in one scan after
+    // a turn on the spot, and its next scans were lost until a search; at the end of a turn a
+    // VLP-16 odometry moved 1.5-1.7 m per scan for eight scans where the vehicle moved 0.8, and
+    // the map's fits, right to a decimetre, lay 0.8-1.1 m from its predictions. The localised
+    // scans need not be in a row (the odometry's first wrong prediction breaks the row), but
+    // they span two intervals at least: over one, each fit's error goes into the velocity whole
+    // (a patrol's turn on the spot, started from one interval's motion, was believed 0.5 m off).
+    // Not when the map's velocity was this scan's first start: that start has failed already.
+    Eigen::Isometry3d by_map;
+    Vector6d map_velocity;
+    if (!believed && !map_start && dt > 0.0 && dt < 1.0 &&
+        mapVelocity(time, dt, map_velocity, by_map)) {
       const Vector6d odometry_velocity = velocity_;
-      velocity_ = recentVelocity();
+      velocity_ = map_velocity;
       build();
-      const Eigen::Isometry3d by_map = last_pose_ * expSE3(velocity_ * dt);
       LocalizationStep retry = step;
       believed = trackFrom(by_map, retry);
       if (believed) {
@@ -396,8 +411,13 @@ LocalizationStep Localizer::processScan(double time, const PointCloud& points,
     // Localised scans in a row measure the velocity once the odometry no longer runs (its own,
     // where it runs, is kept). A re-localisation starts them again: the poses before lie
     // elsewhere.
-    if (step.found) recent_poses_.clear();
+    if (step.found) {
+      recent_poses_.clear();
+      localised_.clear();
+    }
     recent_poses_.emplace_back(time, step.pose);
+    localised_.emplace_back(time, step.pose);
+    if (localised_.size() > kVelocityIntervals + 1) localised_.pop_front();
     if (recent_poses_.size() > kVelocityIntervals + 1) recent_poses_.pop_front();
     if (from_map) velocity_ = recentVelocity();
     tracking_ = true;
@@ -441,6 +461,19 @@ Vector6d Localizer::recentVelocity() const {
   const auto& [t0, p0] = recent_poses_.front();
   const auto& [t1, p1] = recent_poses_.back();
   return logSE3(p0.inverse() * p1) / (t1 - t0);
+}
+
+bool Localizer::mapVelocity(double time, double dt, Vector6d& velocity,
+                            Eigen::Isometry3d& start) const {
+  auto oldest = localised_.begin();
+  while (oldest != localised_.end() && oldest->first < time - kMaxAgeIntervals * dt) ++oldest;
+  if (oldest == localised_.end()) return false;
+  const auto& [t0, p0] = *oldest;
+  const auto& [t1, p1] = localised_.back();
+  if (t1 - t0 < kMinSpanIntervals * dt || time - t1 > kMaxGapIntervals * dt) return false;
+  velocity = logSE3(p0.inverse() * p1) / (t1 - t0);
+  start = p1 * expSE3(velocity * (time - t1));
+  return true;
 }
 
 double Localizer::trackingBound() const {

@@ -190,6 +190,11 @@ class Localizer {
                                std::vector<float>* owned_times);
   /// The body twist per second over recent_poses_, first to last (at least two).
   Vector6d recentVelocity() const;
+  /// The body twist per second over the localised scans of the last few intervals
+  /// (localised_, gaps allowed), and where it carries the newest of them to `time`; false
+  /// unless they span two intervals and the newest is a scan or two old. `dt`: the current
+  /// scan's interval.
+  bool mapVelocity(double time, double dt, Vector6d& velocity, Eigen::Isometry3d& start) const;
   /// Where a registration against the map starts.
   enum class Start {
     kPrediction,  ///< the odometry's prediction: its z, roll and pitch carried, tracking levels
@@ -247,6 +252,9 @@ class Localizer {
   Vector6d velocity_ = Vector6d::Zero();
   /// The last localised scans in a row: time and pose (map frame), oldest first.
   std::deque<std::pair<double, Eigen::Isometry3d>> recent_poses_;
+  /// The last localised scans (kVelocityIntervals + 1), in a row or not, cleared by a
+  /// re-localisation: time and pose (map frame), oldest first.
+  std::deque<std::pair<double, Eigen::Isometry3d>> localised_;
   double last_time_ = 0.0;
   /// While the odometry is stopped: the last scan, for it to start from.
   PointCloud previous_points_;
