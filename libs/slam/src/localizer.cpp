@@ -60,6 +60,8 @@ constexpr size_t kVelocityIntervals = 3;
 constexpr double kMaxAgeIntervals = kVelocityIntervals + 2.5;
 constexpr double kMaxGapIntervals = 2.5;
 constexpr double kMinSpanIntervals = 1.5;
+/// A registration's variance along what it cannot observe (DirectAligner), at least.
+constexpr double kUnobservedFloor = 1e5;
 /// A search needs this many distinct places that fit at all to judge the best against them.
 constexpr size_t kMinBasins = 5;
 
@@ -451,6 +453,7 @@ LocalizationStep Localizer::processScan(double time, const PointCloud& points,
   } else {
     previous_points_.clear();
   }
+  conditioned_fix_ = believed && !fit_degenerate_;
   step.localised = believed && !(on_probation && probation_ > 0);
   step.fixed = fixed_;
   step.ms = watch.elapsedMs();
@@ -497,7 +500,15 @@ Localizer::Fit Localizer::fit(const Eigen::Isometry3d& guess, Start start) {
   f.inliers = selected > 0.0 ? r.cells / selected : 0.0;
   f.cost = r.cost;
   f.degenerate = r.degenerate;
-  f.believable = !r.degenerate && f.inliers >= params_.min_inliers;
+  // A fit that cannot observe one direction of the plane (along a street of straight walls)
+  // keeps its start along it, and that start is good when the previous scan was localised by a
+  // well-conditioned fit: one interval of the map's own velocity. Directions with the
+  // registration's unobserved variance (1e6) counted; never two in a row.
+  int unobserved = 0;
+  for (int i : {0, 1, 5}) unobserved += r.covariance(i, i) >= kUnobservedFloor;
+  const bool carried = start == Start::kPrediction && conditioned_fix_ && unobserved <= 1 &&
+                       r.cells >= grid_.solver.min_cells;
+  f.believable = (!r.degenerate || carried) && f.inliers >= params_.min_inliers;
   return f;
 }
 
@@ -506,6 +517,7 @@ bool Localizer::track(const Eigen::Isometry3d& guess, double rms_bound, Localiza
   const Fit f = fit(guess, start);
   step.rms = f.rms;
   step.inliers = f.inliers;
+  fit_degenerate_ = f.degenerate;
   const bool ok = f.believable && f.rms <= rms_bound;
   if (ok) step.pose = f.pose;
   return ok;

@@ -158,8 +158,10 @@ void writeLocalizationImage(const PriorMap& map, const std::vector<LocalizationS
 /// registered at full resolution, accepted only if one place clearly fits best); then each scan is
 /// registered against the height map around its predicted pose, its z, roll and pitch from the
 /// ground; where the odometry's prediction does not lead to a believable fit, the motion the last
-/// localised scans measure is a second start. A scan that does not fit the map well keeps the
-/// odometry's pose and is reported as not localised; after a few in a row the search runs again.
+/// localised scans measure is a second start. A fit that cannot observe one direction of the
+/// plane is believed right after a well-conditioned one (its start along that direction kept). A
+/// scan that does not fit the map well keeps the odometry's pose and is reported as not
+/// localised; after a few in a row the search runs again.
 class Localizer {
  public:
   /// \param slam the parameters of the odometry that runs beside (and of the registrations
@@ -255,6 +257,8 @@ class Localizer {
   /// The last localised scans (kVelocityIntervals + 1), in a row or not, cleared by a
   /// re-localisation: time and pose (map frame), oldest first.
   std::deque<std::pair<double, Eigen::Isometry3d>> localised_;
+  bool fit_degenerate_ = false;   ///< the last fit that track() ran was degenerate
+  bool conditioned_fix_ = false;  ///< the last scan was localised by a well-conditioned fit
   double last_time_ = 0.0;
   /// While the odometry is stopped: the last scan, for it to start from.
   PointCloud previous_points_;
