@@ -355,22 +355,35 @@ LocalizationStep Localizer::processScan(double time, const PointCloud& points,
     // they span two intervals at least: over one, each fit's error goes into the velocity whole
     // (a patrol's turn on the spot, started from one interval's motion, was believed 0.5 m off).
     // Not when the map's velocity was this scan's first start: that start has failed already.
-    Eigen::Isometry3d by_map;
-    Vector6d map_velocity;
-    if (!believed && !map_start && dt > 0.0 && dt < 1.0 &&
-        mapVelocity(time, dt, map_velocity, by_map)) {
+    // Registered again from `start`, the scan deskewed with `velocity`; kept if believed, else
+    // the scan goes back to the odometry's deskewing.
+    const auto retryFrom = [&](const Eigen::Isometry3d& start, const Vector6d& velocity) {
       const Vector6d odometry_velocity = velocity_;
-      velocity_ = map_velocity;
+      velocity_ = velocity;
       build();
       LocalizationStep retry = step;
-      believed = trackFrom(by_map, retry);
-      if (believed) {
+      if (trackFrom(start, retry)) {
         step = retry;
-        predicted = by_map;
-      } else {
-        velocity_ = odometry_velocity;
-        build();
+        predicted = start;
+        return true;
       }
+      velocity_ = odometry_velocity;
+      build();
+      return false;
+    };
+    Eigen::Isometry3d by_map;
+    Vector6d map_velocity;
+    const bool measured =
+        !believed && dt > 0.0 && dt < 1.0 && mapVelocity(time, dt, map_velocity, by_map);
+    if (measured && !map_start) believed = retryFrom(by_map, map_velocity);
+    // Nor the map's motion: the vehicle may have stopped (a turn on the spot that ends stops its
+    // rotation within a scan, where an odometry started at the turn's end jumped 0.4-0.6 m per
+    // scan). The previous scan's pose, localised, is a last start, tried where the map's motion
+    // over the interval moves less than a believable correction, so that the two starts lie
+    // within reach of each other (at speed, a start at rest is only a wrong basin's).
+    if (!believed && measured && localised_.back().first == last_time_ &&
+        (map_velocity.head<3>() * dt).norm() <= params_.max_correction) {
+      believed = retryFrom(localised_.back().second, Vector6d::Zero());
     }
     if (!believed && on_probation) {
       // The place a search jumped to does not hold: back to the odometry's own path.

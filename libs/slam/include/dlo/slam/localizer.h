@@ -158,10 +158,10 @@ void writeLocalizationImage(const PriorMap& map, const std::vector<LocalizationS
 /// registered at full resolution, accepted only if one place clearly fits best); then each scan is
 /// registered against the height map around its predicted pose, its z, roll and pitch from the
 /// ground; where the odometry's prediction does not lead to a believable fit, the motion the last
-/// localised scans measure is a second start. A fit that cannot observe one direction of the
-/// plane is believed right after a well-conditioned one (its start along that direction kept). A
-/// scan that does not fit the map well keeps the odometry's pose and is reported as not
-/// localised; after a few in a row the search runs again.
+/// localised scans measure is a second start, and the previous scan's pose (at rest) a third. A fit
+/// that cannot observe one direction of the plane is believed right after a well-conditioned one
+/// (its start along that direction kept). A scan that does not fit the map well keeps the
+/// odometry's pose and is reported as not localised; after a few in a row the search runs again.
 class Localizer {
  public:
   /// \param slam the parameters of the odometry that runs beside (and of the registrations
