@@ -789,6 +789,19 @@ SecondDay localiseSecondDay(const fs::path& dir, const std::string& sensor, int 
   return result;
 }
 
+/// `day` localised at least `fraction` of its scans, with no re-localisation, its localised
+/// scans within `max_rms` (RMS) and `max_worst` of where the map puts them.
+void expectLocalised(const SecondDay& day, double fraction, double max_rms, double max_worst) {
+  ASSERT_FALSE(day.report.is_null());
+  EXPECT_GE(day.report.at("localised_fraction").get<double>(), fraction);
+  EXPECT_EQ(day.report.at("relocalisations"), 0);
+  EXPECT_GE(static_cast<double>(day.errors.size()), fraction * 200.0 - 1.0);
+  ASSERT_FALSE(day.errors.empty());
+  EXPECT_LT(rms(day.errors), max_rms);
+  EXPECT_LT(*std::max_element(day.errors.begin(), day.errors.end()), max_worst);
+  ::testing::Test::RecordProperty("ate_map_frame_m", std::to_string(rms(day.errors)));
+}
+
 TEST_F(SimulatedLoop, ASparseDriveStaysLocalisedWhereItsBridgingOdometryRunsFast) {
   // At the end of a turn (scans 168-177) the map's velocity misses the scan and the odometry
   // started there moves 1.5-1.7 m per scan where the vehicle moves 0.8: its predictions lie
@@ -796,13 +809,10 @@ TEST_F(SimulatedLoop, ASparseDriveStaysLocalisedWhereItsBridgingOdometryRunsFast
   // over its last localised scans, across the scans it missed, is a second start from which
   // those fits are believed. Without it: 96.0 % localised.
   const SecondDay day = localiseSecondDay(*dir_, "VLP16", 4);
-  ASSERT_FALSE(day.report.is_null());
-  EXPECT_EQ(day.report.at("sensor_profile"), "sparse");
-  EXPECT_GE(day.report.at("localised_fraction").get<double>(), 0.985);
-  EXPECT_EQ(day.report.at("relocalisations"), 0);
-  EXPECT_GE(day.errors.size(), 197u);
-  EXPECT_LT(rms(day.errors), 0.25);
-  RecordProperty("ate_map_frame_m", std::to_string(rms(day.errors)));
+  // The worst scan lies 1.13 m from the map's pose for it, before the change as after: the
+  // map's own poses of this sparse lap are 0.41 m off the truth (RMS).
+  expectLocalised(day, 0.985, 0.25, 1.2);
+  EXPECT_EQ(day.report.value("sensor_profile", ""), "sparse");
 }
 
 TEST_F(SimulatedLoop, AScanThatCannotSeeAlongTheStreetIsLocalisedAfterAFix) {
@@ -811,14 +821,8 @@ TEST_F(SimulatedLoop, AScanThatCannotSeeAlongTheStreetIsLocalisedAfterAFix) {
   // map's velocity over one interval from a well-conditioned fix, is kept there, and the fit is
   // believed. Without it: 98.0 % localised.
   const SecondDay day = localiseSecondDay(*dir_, "HDL64", 5);
-  ASSERT_FALSE(day.report.is_null());
-  EXPECT_EQ(day.report.at("sensor_profile"), "dense");
-  EXPECT_GE(day.report.at("localised_fraction").get<double>(), 0.99);
-  EXPECT_EQ(day.report.at("relocalisations"), 0);
-  EXPECT_GE(day.errors.size(), 198u);
-  EXPECT_LT(rms(day.errors), 0.10);
-  EXPECT_LT(*std::max_element(day.errors.begin(), day.errors.end()), 0.3);
-  RecordProperty("ate_map_frame_m", std::to_string(rms(day.errors)));
+  expectLocalised(day, 0.99, 0.10, 0.3);
+  EXPECT_EQ(day.report.value("sensor_profile", ""), "dense");
 }
 
 TEST_F(SimulatedLoop, ARobotWhoseTurnOnTheSpotEndsIsLocalisedFromWhereItStopped) {
@@ -827,13 +831,7 @@ TEST_F(SimulatedLoop, ARobotWhoseTurnOnTheSpotEndsIsLocalisedFromWhereItStopped)
   // leads to a believable fit; the previous scan's pose, the vehicle at rest, does. Without that
   // start: 98.5 % localised.
   const SecondDay day = localiseSecondDay(*dir_, "HDL64", 1, true);
-  ASSERT_FALSE(day.report.is_null());
-  EXPECT_GE(day.report.at("localised_fraction").get<double>(), 0.99);
-  EXPECT_EQ(day.report.at("relocalisations"), 0);
-  EXPECT_GE(day.errors.size(), 198u);
-  EXPECT_LT(rms(day.errors), 0.10);
-  EXPECT_LT(*std::max_element(day.errors.begin(), day.errors.end()), 0.4);
-  RecordProperty("ate_map_frame_m", std::to_string(rms(day.errors)));
+  expectLocalised(day, 0.99, 0.10, 0.4);
 }
 
 TEST_F(SimulatedLoop, DloLocalizeTakesItsSectionFromTheConfigFileAndSet) {
