@@ -765,24 +765,17 @@ SecondDay localiseSecondDay(const fs::path& dir, const std::string& sensor, int 
   SecondDay result;
   if (mapped != 0 || status != 0) return result;
   result.report = test::readJsonFile(out / "report.json");
-  std::ifstream csv(out / "localization.csv");
-  std::string line;
-  std::getline(csv, line);  // header: time,localised,searched,found,confidence,rms_m,inliers,x,y
+  EXPECT_EQ(result.report.at("scans"), 200);
+  // trajectory.tum holds the localised scans' poses.
   std::vector<LocalizationStep> steps;
-  while (std::getline(csv, line)) {
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream row(line);
+  const metrics::Trajectory localised = metrics::readTrajectory((out / "trajectory.tum").string());
+  for (size_t i = 0; i < localised.size(); ++i) {
     LocalizationStep s;
-    double searched = 0.0, found = 0.0, confidence = 0.0, rms_m = 0.0, inliers = 0.0, x = 0.0,
-           y = 0.0;
-    int localised = 0;
-    row >> s.time >> localised >> searched >> found >> confidence >> rms_m >> inliers >> x >> y;
-    EXPECT_TRUE(row) << line;
-    s.localised = row && localised != 0;
-    s.pose.translation() << x, y, 0.0;
+    s.time = localised.times[i];
+    s.localised = true;
+    s.pose = localised.poses[i];
     steps.push_back(s);
   }
-  EXPECT_EQ(steps.size(), 200u);
   result.errors =
       localisationErrors(steps, metrics::readTrajectory((map / "trajectory.tum").string()),
                          Eigen::Isometry3d::Identity());

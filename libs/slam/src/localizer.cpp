@@ -345,16 +345,6 @@ LocalizationStep Localizer::processScan(double time, const PointCloud& points,
       predicted = last_pose_ * moved;
       believed = trackFrom(predicted, step);
     }
-    // The odometry's motion did not carry the vehicle to a believable fit: the motion the map
-    // measured over its last localised scans is a second start, and the scan is deskewed with
-    // it. A sparse odometry can jump: a simulated VLP-16 patrol's moved 4.7 m in one scan after
-    // a turn on the spot, and its next scans were lost until a search; at the end of a turn a
-    // VLP-16 odometry moved 1.5-1.7 m per scan for eight scans where the vehicle moved 0.8, and
-    // the map's fits, right to a decimetre, lay 0.8-1.1 m from its predictions. The localised
-    // scans need not be in a row (the odometry's first wrong prediction breaks the row), but
-    // they span two intervals at least: over one, each fit's error goes into the velocity whole
-    // (a patrol's turn on the spot, started from one interval's motion, was believed 0.5 m off).
-    // Not when the map's velocity was this scan's first start: that start has failed already.
     // Registered again from `start`, the scan deskewed with `velocity`; kept if believed, else
     // the scan goes back to the odometry's deskewing.
     const auto retryFrom = [&](const Eigen::Isometry3d& start, const Vector6d& velocity) {
@@ -371,6 +361,16 @@ LocalizationStep Localizer::processScan(double time, const PointCloud& points,
       build();
       return false;
     };
+    // The odometry's motion did not carry the vehicle to a believable fit: the motion the map
+    // measured over its last localised scans is a second start, and the scan is deskewed with
+    // it. A sparse odometry can jump: a simulated VLP-16 patrol's moved 4.7 m in one scan after
+    // a turn on the spot, and its next scans were lost until a search; at the end of a turn a
+    // VLP-16 odometry moved 1.5-1.7 m per scan for eight scans where the vehicle moved 0.8, and
+    // the map's fits, right to a decimetre, lay 0.8-1.1 m from its predictions. The localised
+    // scans need not be in a row (the odometry's first wrong prediction breaks the row), but
+    // they span two intervals at least: over one, each fit's error goes into the velocity whole
+    // (a patrol's turn on the spot, started from one interval's motion, was believed 0.5 m off).
+    // Not when the map's velocity was this scan's first start: that start has failed already.
     Eigen::Isometry3d by_map;
     Vector6d map_velocity;
     const bool measured =
