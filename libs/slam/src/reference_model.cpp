@@ -36,6 +36,15 @@ void PreviousScanReference::afterScan(HeightFrame& current, const PointCloud&,
 }
 
 void KeyframeMapReference::addKeyframe(const Eigen::Isometry3d& pose, WeightedCloud fine) {
+  // A keyframe taken where the newest one was (a turn on the spot makes one every
+  // keyframe_angle) carries the same pattern of rings again, which pulls registrations towards
+  // where both were taken: it replaces that one instead of joining it (local_map_spacing).
+  const double spacing = params_.odometry.local_map_spacing;
+  if (keyframes_ > 1 && spacing > 0.0 && !recent_.empty() &&
+      (recent_.back().pose.translation() - pose.translation()).head<2>().norm() < spacing) {
+    recent_.pop_back();
+    if (recent_.empty()) first_replaced_ = true;
+  }
   recent_.push_back(Keyframe{pose, std::move(fine)});
   while (recent_.size() > keyframes_) recent_.pop_front();
   const double extent = params_.odometry.local_map_extent;
@@ -48,7 +57,7 @@ void KeyframeMapReference::addKeyframe(const Eigen::Isometry3d& pose, WeightedCl
 
 void KeyframeMapReference::redoFirstScan(const PointCloud&, const Eigen::Isometry3d&,
                                          WeightedCloud fine) {
-  if (recent_.empty()) return;
+  if (recent_.empty() || first_replaced_) return;
   recent_.front().cloud = std::move(fine);
   rebuild();
 }

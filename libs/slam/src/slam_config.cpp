@@ -58,9 +58,10 @@ std::vector<ParamField<SlamParams>> fields() {
                  "registered scans in the local height map (reference = scan_map)"),
       paramField("odometry", "local_map_spacing", &S::odometry, &O::local_map_spacing,
                  "metres; a registered scan joins the local height map (reference = scan_map) only "
-                 "this far from the last scan that joined it, so that the map's scans are "
-                 "spread out and the pattern of rings that travels with a sparse sensor "
-                 "cancels out; 0: every scan joins"),
+                 "this far from the last scan that joined it, and a keyframe closer than this to "
+                 "the newest one of the keyframe map (reference = keyframe_map) replaces it, so "
+                 "that the map's views are spread out and the pattern of rings that travels "
+                 "with the sensor cancels out; 0: every scan or keyframe joins"),
       paramField("odometry", "max_prior_deviation", &S::odometry, &O::max_prior_deviation,
                  "metres; a registration farther than this from the constant-velocity "
                  "prediction (rotations counted at solver.rotation_scale) is decided by the "

@@ -113,6 +113,7 @@ class KeyframeMapReference : public ReferenceModel {
 
   size_t keyframes_;
   std::deque<Keyframe> recent_;
+  bool first_replaced_ = false;  ///< the first scan's keyframe was replaced by a later one
 };
 
 /// odometry.reference = scan_map: a world-fixed height map of the last

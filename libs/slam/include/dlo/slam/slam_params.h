@@ -61,10 +61,12 @@ struct OdometryParams {
   /// sensor's rings (measurements: docs/benchmarks.md).
   int local_map_scans = 15;
   /// Metres: a registered scan joins the scan map (reference = scan_map) only this far from the
-  /// last scan that joined it. Each sparse scan's pattern of rings and holes travels with the
-  /// sensor and pulls a registration towards where that scan was taken; scans a few centimetres
-  /// apart (a robot at 1.5 m/s) add the same pattern again, spread over metres they cancel out. 0:
-  /// every registered scan joins.
+  /// last scan that joined it, and a keyframe closer than this to the keyframe map's newest
+  /// (reference = keyframe_map; a turn on the spot makes one every keyframe_angle) replaces it.
+  /// Each scan's pattern of rings and holes travels with the sensor and pulls a registration
+  /// towards where that scan was taken; views a few centimetres apart (a robot at 1.5 m/s, or
+  /// turning on the spot) add the same pattern again, spread over metres they cancel out. 0:
+  /// every registered scan or keyframe joins.
   double local_map_spacing = 0.6;
   /// Metres: a registration farther than this from the constant-velocity prediction (rotations
   /// counted as their displacement at solver.rotation_scale) is rejected, the prediction kept
