@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 
 #include "dlo/slam/reference_model.h"
 
@@ -29,8 +30,8 @@ Eigen::Isometry3d poseAt(double x, double yaw_deg) {
   return pose;
 }
 
-/// A keyframe 5 m ahead of the first at (0, 0), and a second at `second` seeing another spot
-/// 5 m behind it; the points the map holds at each spot, in the second keyframe's frame.
+/// A keyframe at (0, 0) that sees a spot 5 m ahead of it, then a keyframe at `second` that sees
+/// another spot 5 m behind it: the points the map holds at each spot.
 struct TwoSpots {
   std::uint32_t first_spot;
   std::uint32_t second_spot;
