@@ -80,5 +80,15 @@ TEST(KeyframeMap, TheFirstScanRedoneDoesNotOverwriteTheKeyframeThatReplacedIt) {
   EXPECT_EQ(pointsAt(*reference, redone.x(), redone.y()), 0u);
 }
 
+TEST(KeyframeMap, TheFirstScanRedoneReplacesItsOwnKeyframesCloud) {
+  SlamParams params;
+  params.odometry.reference = Reference::kKeyframeMap;
+  const auto reference = ReferenceModel::make(params);
+  reference->addKeyframe(Eigen::Isometry3d::Identity(), blobAt(5.0f, 0.0f));
+  reference->redoFirstScan(PointCloud(), Eigen::Isometry3d::Identity(), blobAt(3.0f, 3.0f));
+  EXPECT_EQ(pointsAt(*reference, 5.0, 0.0), 0u);
+  EXPECT_EQ(pointsAt(*reference, 3.0, 3.0), 10u);
+}
+
 }  // namespace
 }  // namespace dlo

@@ -43,7 +43,6 @@ void KeyframeMapReference::addKeyframe(const Eigen::Isometry3d& pose, WeightedCl
   if (keyframes_ > 1 && spacing > 0.0 && !recent_.empty() &&
       (recent_.back().pose.translation() - pose.translation()).head<2>().norm() < spacing) {
     recent_.pop_back();
-    if (recent_.empty()) first_replaced_ = true;
   }
   recent_.push_back(Keyframe{pose, std::move(fine)});
   while (recent_.size() > keyframes_) recent_.pop_front();
@@ -55,9 +54,11 @@ void KeyframeMapReference::addKeyframe(const Eigen::Isometry3d& pose, WeightedCl
   rebuild();
 }
 
-void KeyframeMapReference::redoFirstScan(const PointCloud&, const Eigen::Isometry3d&,
+void KeyframeMapReference::redoFirstScan(const PointCloud&, const Eigen::Isometry3d& pose,
                                          WeightedCloud fine) {
-  if (recent_.empty() || first_replaced_) return;
+  // Only the first scan's own keyframe is redone: one that replaced it (local_map_spacing) or
+  // came after it keeps its cloud.
+  if (recent_.empty() || !recent_.front().pose.matrix().isApprox(pose.matrix(), 0.0)) return;
   recent_.front().cloud = std::move(fine);
   rebuild();
 }

@@ -113,9 +113,6 @@ class KeyframeMapReference : public ReferenceModel {
 
   size_t keyframes_;
   std::deque<Keyframe> recent_;
-  /// The map's only keyframe was replaced by a later one (local_map_spacing): redoFirstScan(),
-  /// which comes after the second scan, would otherwise overwrite the newer keyframe's cloud.
-  bool first_replaced_ = false;
 };
 
 /// odometry.reference = scan_map: a world-fixed height map of the last
