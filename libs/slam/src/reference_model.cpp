@@ -58,7 +58,7 @@ void KeyframeMapReference::redoFirstScan(const PointCloud&, const Eigen::Isometr
                                          WeightedCloud fine) {
   // Only the first scan's own keyframe is redone: one that replaced it (local_map_spacing) or
   // came after it keeps its cloud.
-  if (recent_.empty() || !recent_.front().pose.matrix().isApprox(pose.matrix(), 0.0)) return;
+  if (recent_.empty() || recent_.front().pose.matrix() != pose.matrix()) return;
   recent_.front().cloud = std::move(fine);
   rebuild();
 }
