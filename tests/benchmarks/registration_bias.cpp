@@ -12,15 +12,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <map>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "dlo/app/app_main.h"
+#include "dlo/app/program_options.h"
 #include "dlo/core/direct_aligner.h"
 #include "dlo/core/dlo_params.h"
 #include "dlo/core/height_frame.h"
+#include "dlo/files/error.h"
 #include "dlo/sim/lidar_model.h"
 #include "dlo/sim/procedural_world.h"
 #include "dlo/sim/route.h"
@@ -38,49 +39,48 @@ struct Options {
   int frames = 100;
 };
 
-const char* const kUsage =
-    "usage: dlo_registration_bias [--seed S] [--sensor HDL64|HDL32|VLP16] [--cols N]\n"
-    "                             [--resolution M] [--centroid-levels L] [--frames N]\n";
-
-Options parse(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string key = argv[i];
-    if (key == "--help" || key == "-h") {
-      std::fputs(kUsage, stdout);
-      std::exit(0);
-    }
-    if (i + 1 >= argc) throw std::invalid_argument(key + " needs a value");
-    const std::string value = argv[++i];
-    if (key == "--seed") {
-      o.seed = static_cast<unsigned>(std::stoul(value));
-    } else if (key == "--sensor") {
-      if (value == "HDL64") {
-        o.sensor = dlo::sim::SensorType::HDL64;
-      } else if (value == "HDL32") {
-        o.sensor = dlo::sim::SensorType::HDL32;
-      } else if (value == "VLP16") {
-        o.sensor = dlo::sim::SensorType::VLP16;
-      } else {
-        throw std::invalid_argument("--sensor must be HDL64, HDL32 or VLP16");
-      }
-    } else if (key == "--cols") {
-      o.cols = std::stoi(value);
-    } else if (key == "--resolution") {
-      o.resolution = std::stod(value);
-    } else if (key == "--centroid-levels") {
-      o.centroid_levels = std::stoi(value);
-    } else if (key == "--frames") {
-      o.frames = std::stoi(value);
-    } else {
-      throw std::invalid_argument("unknown option " + key);
-    }
+/// The command line; \throw dlo::UsageError for a mistake. \return false when --help was
+/// printed.
+bool parse(int argc, char** argv, Options& o) {
+  dlo::ProgramOptions cl(
+      "dlo_registration_bias",
+      "Measures how far registrations of two exactly undistorted simulated sweeps fall short of "
+      "(or beyond) the motion between them, by the distance between the sweeps: a markdown table "
+      "of the median, mean and RMS error along the motion per 0.5 m of distance (millimetres; "
+      "negative: less motion measured than there was).");
+  long seed = o.seed;
+  long cols = o.cols;
+  long levels = o.centroid_levels;
+  long frames = o.frames;
+  std::string sensor = "HDL64";
+  cl.wholeNumber("--seed", seed, "the town's and the sensor's seed").valueName("S");
+  cl.text("--sensor", sensor, "HDL64, HDL32 or VLP16").valueName("MODEL");
+  cl.wholeNumber("--cols", cols, "cells per side of the grid (at least 16)").valueName("N");
+  cl.number("--resolution", o.resolution, "metres per cell at the finest level").valueName("M");
+  cl.wholeNumber("--centroid-levels", levels,
+                 "the finest levels compared at their cells' centroids (0: at the centres)")
+      .valueName("L");
+  cl.wholeNumber("--frames", frames, "sweeps simulated (at least 30)").valueName("N");
+  if (!cl.parse(argc, argv)) return false;
+  if (sensor == "HDL64") {
+    o.sensor = dlo::sim::SensorType::HDL64;
+  } else if (sensor == "HDL32") {
+    o.sensor = dlo::sim::SensorType::HDL32;
+  } else if (sensor == "VLP16") {
+    o.sensor = dlo::sim::SensorType::VLP16;
+  } else {
+    throw dlo::UsageError("--sensor must be HDL64, HDL32 or VLP16, got '" + sensor + "'.");
   }
-  if (o.cols < 16 || o.resolution <= 0.0 || o.frames < 30) {
-    throw std::invalid_argument(
-        "--cols must be at least 16, --resolution positive, --frames >= 30");
-  }
-  return o;
+  if (seed < 0) throw dlo::UsageError("--seed must not be negative.");
+  if (cols < 16 || cols > 4000) throw dlo::UsageError("--cols must be 16 to 4000.");
+  if (!(o.resolution > 0.0)) throw dlo::UsageError("--resolution must be positive.");
+  if (levels < 0 || levels > 8) throw dlo::UsageError("--centroid-levels must be 0 to 8.");
+  if (frames < 30 || frames > 100000) throw dlo::UsageError("--frames must be 30 to 100000.");
+  o.seed = static_cast<unsigned>(seed);
+  o.cols = static_cast<int>(cols);
+  o.centroid_levels = static_cast<int>(levels);
+  o.frames = static_cast<int>(frames);
+  return true;
 }
 
 /// Sweep k of the drive, each point placed with the vehicle's pose at its own time and
@@ -110,16 +110,10 @@ struct Bin {
   double squared = 0.0;       ///< sum of the squared planar errors
 };
 
-}  // namespace
-
-int main(int argc, char** argv) {
+/// The measurement; \return the exit status.
+int run(int argc, char** argv) {
   Options o;
-  try {
-    o = parse(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "dlo_registration_bias: %s\n%s", e.what(), kUsage);
-    return 2;
-  }
+  if (!parse(argc, argv, o)) return 0;
   // The town of dlo-simulate's default drive: laps of its block, corners on 8 m clothoids.
   const dlo::sim::WorldParams town;
   const auto world = dlo::sim::ProceduralWorld::generate(o.seed, town);
@@ -171,4 +165,10 @@ int main(int argc, char** argv) {
                 1000.0 * std::sqrt(bin.squared / n));
   }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return dlo::runApp("dlo_registration_bias", [&] { return run(argc, argv); });
 }
