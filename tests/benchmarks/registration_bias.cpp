@@ -55,12 +55,12 @@ bool parse(int argc, char** argv, Options& o) {
   std::string sensor = "HDL64";
   cl.wholeNumber("--seed", seed, "the town's and the sensor's seed").valueName("S");
   cl.text("--sensor", sensor, "HDL64, HDL32 or VLP16").valueName("MODEL");
-  cl.wholeNumber("--cols", cols, "cells per side of the grid (at least 16)").valueName("N");
+  cl.wholeNumber("--cols", cols, "cells per side of the grid, 16 to 4000").valueName("N");
   cl.number("--resolution", o.resolution, "metres per cell at the finest level").valueName("M");
   cl.wholeNumber("--centroid-levels", levels,
                  "the finest levels compared at their cells' centroids (0: at the centres)")
       .valueName("L");
-  cl.wholeNumber("--frames", frames, "sweeps simulated (at least 30)").valueName("N");
+  cl.wholeNumber("--frames", frames, "sweeps simulated, 30 to 100000").valueName("N");
   if (!cl.parse(argc, argv)) return false;
   if (sensor == "HDL64") {
     o.sensor = dlo::sim::SensorType::HDL64;
@@ -71,7 +71,7 @@ bool parse(int argc, char** argv, Options& o) {
   } else {
     throw dlo::UsageError("--sensor must be HDL64, HDL32 or VLP16, got '" + sensor + "'.");
   }
-  if (seed < 0) throw dlo::UsageError("--seed must not be negative.");
+  if (seed < 0 || seed > 4294967295L) throw dlo::UsageError("--seed must be 0 to 4294967295.");
   if (cols < 16 || cols > 4000) throw dlo::UsageError("--cols must be 16 to 4000.");
   if (!(o.resolution > 0.0)) throw dlo::UsageError("--resolution must be positive.");
   if (levels < 0 || levels > 8) throw dlo::UsageError("--centroid-levels must be 0 to 8.");
