@@ -4,15 +4,17 @@
 // its own firing time), so nothing but the height grids and the registration can err; each pair
 // is registered from the true motion, so the result is where the registration's optimum lies.
 //
-//   dlo_registration_bias [--seed S] [--sensor HDL64|HDL32|VLP16] [--cols N]
-//                         [--resolution M] [--centroid-levels L] [--frames N]
+//   dlo_registration_bias [--seed S] [--sensor MODEL] [--cols N] [--resolution M]
+//                         [--centroid-levels L] [--frames N]      (--help: each option)
 //
 // prints per 0.5 m of distance the pairs, and the median, mean and RMS of the error along the
 // motion (negative: the registration measured less motion than there was), in millimetres.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,10 +35,11 @@ namespace {
 struct Options {
   unsigned seed = 1;
   dlo::sim::SensorType sensor = dlo::sim::SensorType::HDL64;
-  int cols = 400;
-  double resolution = 0.1;
-  int centroid_levels = 2;
   int frames = 100;
+  /// The registration's grid: --cols, --resolution and --centroid-levels on the paper's
+  /// defaults, the two finest levels at their centroids as dlo-slam's dense profile has them.
+  dlo::DloParams params;
+  Options() { params.selection.centroid_levels = 2; }
 };
 
 /// The command line; \throw dlo::UsageError for a mistake. \return false when --help was
@@ -49,37 +52,36 @@ bool parse(int argc, char** argv, Options& o) {
       "of the median, mean and RMS error along the motion per 0.5 m of distance (millimetres; "
       "negative: less motion measured than there was).");
   long seed = o.seed;
-  long cols = o.cols;
-  long levels = o.centroid_levels;
+  long cols = o.params.grid.cols;
+  long levels = o.params.selection.centroid_levels;
   long frames = o.frames;
   std::string sensor = "HDL64";
   cl.wholeNumber("--seed", seed, "the town's and the sensor's seed").valueName("S");
-  cl.text("--sensor", sensor, "HDL64, HDL32 or VLP16").valueName("MODEL");
-  cl.wholeNumber("--cols", cols, "cells per side of the grid, 16 to 4000").valueName("N");
-  cl.number("--resolution", o.resolution, "metres per cell at the finest level").valueName("M");
+  cl.text("--sensor", sensor, "VLP16, HDL32, HDL64, OS64 or OS128").valueName("MODEL");
+  cl.wholeNumber("--cols", cols, "cells per side of the grid").valueName("N");
+  cl.number("--resolution", o.params.grid.resolution, "metres per cell at the finest level")
+      .valueName("M");
   cl.wholeNumber("--centroid-levels", levels,
                  "the finest levels compared at their cells' centroids (0: at the centres)")
       .valueName("L");
   cl.wholeNumber("--frames", frames, "sweeps simulated, 30 to 100000").valueName("N");
   if (!cl.parse(argc, argv)) return false;
-  if (sensor == "HDL64") {
-    o.sensor = dlo::sim::SensorType::HDL64;
-  } else if (sensor == "HDL32") {
-    o.sensor = dlo::sim::SensorType::HDL32;
-  } else if (sensor == "VLP16") {
-    o.sensor = dlo::sim::SensorType::VLP16;
-  } else {
-    throw dlo::UsageError("--sensor must be HDL64, HDL32 or VLP16, got '" + sensor + "'.");
+  const std::optional<dlo::sim::SensorType> type = dlo::sim::parseSensorType(sensor);
+  if (!type) {
+    throw dlo::UsageError("--sensor must be VLP16, HDL32, HDL64, OS64 or OS128, got '" + sensor +
+                          "'.");
   }
+  o.sensor = *type;
   if (seed < 0 || seed > 4294967295L) throw dlo::UsageError("--seed must be 0 to 4294967295.");
-  if (cols < 16 || cols > 4000) throw dlo::UsageError("--cols must be 16 to 4000.");
-  if (!(o.resolution > 0.0)) throw dlo::UsageError("--resolution must be positive.");
-  if (levels < 0 || levels > 8) throw dlo::UsageError("--centroid-levels must be 0 to 8.");
   if (frames < 30 || frames > 100000) throw dlo::UsageError("--frames must be 30 to 100000.");
   o.seed = static_cast<unsigned>(seed);
-  o.cols = static_cast<int>(cols);
-  o.centroid_levels = static_cast<int>(levels);
   o.frames = static_cast<int>(frames);
+  // The grid's own checks (DloParams::validate()), on values that fit their fields.
+  if (std::abs(cols) > 1000000 || std::abs(levels) > 1000)
+    throw dlo::UsageError("--cols or --centroid-levels is out of range.");
+  o.params.grid.cols = o.params.grid.rows = static_cast<int>(cols);
+  o.params.selection.centroid_levels = static_cast<int>(levels);
+  if (const std::string bad = o.params.validate(); !bad.empty()) throw dlo::UsageError(bad);
   return true;
 }
 
@@ -130,10 +132,7 @@ int run(int argc, char** argv) {
   for (int k = 0; k < o.frames; ++k)
     sweeps[k] = undistortedSweep(simulator, trajectory, k, poses[k]);
 
-  dlo::DloParams p;
-  p.grid.cols = p.grid.rows = o.cols;
-  p.grid.resolution = o.resolution;
-  p.selection.centroid_levels = o.centroid_levels;
+  const dlo::DloParams& p = o.params;
   const dlo::DirectAligner aligner(p.solver);
   std::map<int, Bin> bins;  // by distance, 0.5 m each
   // From the 20th sweep on (the car is up to speed), each against the next twelve.
