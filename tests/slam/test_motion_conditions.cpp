@@ -139,10 +139,11 @@ TEST(MotionConditions, ADriveStartingAtSpeedOnAnOpenRoadFindsItsSpeedFromThePole
 
 TEST(MotionConditions, ScansBeforeTheSpeedIsFoundMoveOnceItIs) {
   // Seed 2's open road: 15 m/s from the first sweep, and the first pole comes within the grid's
-  // reach only at the 16th scan. Until then nothing observes the motion along the road and the
-  // odometry predicts it at rest; the search then finds the speed against the previous scan.
-  // The velocity was never measured before, so all of the found speed applies to the run before
-  // it (OdometryStep::backfill): those scans move along the road, and every later one with them.
+  // reach (30 m) only after eight scans (fifteen with the paper's 40 m grid). Until then nothing
+  // observes the motion along the road and the odometry predicts it at rest; the search then finds
+  // the speed against the previous scan. The velocity was never measured before, so all of the
+  // found speed applies to the run before it (OdometryStep::backfill): those scans move along the
+  // road, and every later one with them.
   const auto road = simulate("open_road_late_pole", "--open-road", "HDL64", 2);
   const OdometryRun run = runOdometry(*road, SlamParams());
   constexpr size_t kStart = 25;  // scans: the run at rest and a few after the search
@@ -153,7 +154,7 @@ TEST(MotionConditions, ScansBeforeTheSpeedIsFoundMoveOnceItIs) {
               kStart, pathLength(start), pathLength(truth), run.counters.backfilled_frames,
               run.accuracy.drift_percent_before);
   EXPECT_GT(run.counters.search_found_frames, 0u);
-  EXPECT_GT(run.counters.backfilled_frames, 10u);
+  EXPECT_GE(run.counters.backfilled_frames, 6u);
   // Left at rest until the search, the first 25 scans covered 12 m of their 36 m.
   EXPECT_NEAR(pathLength(start) / pathLength(truth), 1.0, 0.2);
   // The keyframes, the scans anchored to them and the edges between them moved together.
@@ -341,7 +342,8 @@ TEST(MotionConditions, ARobotTurningOnTheSpotWithItsLidarAheadOfTheAxisKeepsItsP
   // moves it 4.7 cm along a circle each sweep. Each keyframe's pattern of rings travels with the
   // sensor, and a scan fits the newest keyframe's pattern best where the sensor has not moved:
   // with only the last four keyframes (10 deg apart in a turn) in the local map, these 150
-  // sweeps drift 3.13 % (ATE 0.151 m); with up to eight within 12 m, 1.78 % (0.094 m).
+  // sweeps drift 2.33 % (ATE 0.085 m); with up to eight within 12 m, 2.15 % (0.068 m). (With the
+  // paper's 40 m grid: 3.13 %, 0.151 m against 1.78 %, 0.094 m.)
   const auto patrol = simulate("patrol_lever", "--patrol", "HDL64", 3);
   SlamParams four;
   four.odometry.local_map_keyframes = 4;
@@ -353,7 +355,7 @@ TEST(MotionConditions, ARobotTurningOnTheSpotWithItsLidarAheadOfTheAxisKeepsItsP
       "last four keyframes)\n",
       now.accuracy.ate_rmse_before, now.accuracy.drift_percent_before,
       before.accuracy.ate_rmse_before, before.accuracy.drift_percent_before);
-  EXPECT_LT(now.accuracy.ate_rmse_before, 0.7 * before.accuracy.ate_rmse_before);
+  EXPECT_LT(now.accuracy.ate_rmse_before, 0.85 * before.accuracy.ate_rmse_before);
 }
 
 TEST(MotionConditions, ASparseSensorKeepsItsPaceAtWalkingSpeed) {
@@ -361,7 +363,9 @@ TEST(MotionConditions, ASparseSensorKeepsItsPaceAtWalkingSpeed) {
   // map). Each sparse scan's rings travel with the sensor and pull its registration towards
   // where the map's scans were taken: with every scan joining the map (15 scans within 2 m,
   // odometry.local_map_spacing = 0) the estimate covered 6.05 of these 9.53 m. Scans that join
-  // the map 0.6 m apart cancel that pull out: 9.32 m.
+  // the map 0.6 m apart cancel most of that pull: 8.93 m. What remains depends on the drive:
+  // seeds 4-7 cover 94, 98, 93 and 99 % of their straight (the 60 m grid of 300 cells: 96, 99,
+  // 90 and 99 %).
   const auto patrol = simulate("patrol_vlp16", "--patrol", "VLP16");
   const OdometryRun r = runOdometry(*patrol, resolveSlamParams("sparse", SlamConfigLayers()));
   // The last scan of the straight: the truth has gone 9.5 m from the start.
@@ -377,7 +381,7 @@ TEST(MotionConditions, ASparseSensorKeepsItsPaceAtWalkingSpeed) {
   const double estimated = (r.poses[end].translation() - r.poses.front().translation()).norm();
   std::printf("VLP-16 patrol: %.2f m of %.2f m along the straight (scan %zu); ATE %.3f m\n",
               estimated, travelled, end, r.accuracy.ate_rmse_before);
-  EXPECT_GT(estimated / travelled, 0.95);
+  EXPECT_GT(estimated / travelled, 0.9);
   EXPECT_LT(estimated / travelled, 1.05);
   EXPECT_LT(r.accuracy.ate_rmse_before, 0.3);
 }
@@ -464,6 +468,45 @@ TEST(MotionConditions, AHardStopIsFollowedAndTheVehicleStandsStill) {
   EXPECT_LT(moved, 0.15);
   EXPECT_LT(r.accuracy.ate_rmse_before, 0.5);
   EXPECT_LT(r.accuracy.drift_percent_before, 2.0);
+}
+
+/// Largest heading error over `poses` against `truth`, both relative to their first pose
+/// (degrees).
+double largestHeadingError(const std::vector<Eigen::Isometry3d>& poses,
+                           const std::vector<Eigen::Isometry3d>& truth) {
+  const auto yaw = [](const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+    const Eigen::Matrix3d r = (a.inverse() * b).linear();
+    return std::atan2(r(1, 0), r(0, 0));
+  };
+  double worst = 0.0;
+  for (size_t i = 1; i < poses.size() && i < truth.size(); ++i) {
+    const double e = std::remainder(yaw(poses[0], poses[i]) - yaw(truth[0], truth[i]), 2.0 * M_PI);
+    worst = std::max(worst, std::fabs(e) * 180.0 / M_PI);
+  }
+  return worst;
+}
+
+TEST(MotionConditions, TheSweepAfterATurnOnTheSpotEndsIsDeskewedAsItFitsBest) {
+  // A robot stops turning on the spot between two scans: the interval before the sweep turned
+  // 6 deg, the sweep itself none. Deskewed with the prediction's 9 deg, the scan registered near
+  // no turn at all; deskewed again with that, it fitted at the true 6 deg at a third of the
+  // prediction's cost; deskewed once more with the 6 deg, worse. Keeping the last of those fits
+  // (which then lost to the first) rejected the scan and the next, and the heading ended the
+  // turn 12 deg off with the 60 m grid (9 % drift): the best fit is kept. A scan where a turn
+  // starts or ends may still be off by a couple of degrees (2.4 deg, the next one bringing most
+  // of it back; the heading is 2.8 deg off at worst).
+  const auto patrol = simulate("patrol_turn_end", "--patrol", "HDL64", 3);
+  const SlamParams params;
+  ASSERT_EQ(params.registration.grid.cols, 600);
+  const OdometryRun r = runOdometry(*patrol, params);
+  const double worst = largestHeadingError(r.poses, patrol->truth.poses);
+  std::printf(
+      "patrol, seed 3: worst heading error %.2f deg (of one scan's turn: %.2f deg), ATE %.3f m, "
+      "%zu kept the prediction\n",
+      worst, largestYawStepError(r.poses, patrol->truth.poses), r.accuracy.ate_rmse_before,
+      r.counters.prediction_kept_frames);
+  EXPECT_LT(worst, 4.0);
+  EXPECT_LT(r.accuracy.ate_rmse_before, 0.15);
 }
 
 }  // namespace

@@ -55,7 +55,7 @@ TEST(SensorProfiles, ConfigFileAndOverridesApplyOnTopOfTheProfile) {
   fs::remove(ini);
   EXPECT_DOUBLE_EQ(p.registration.grid.resolution, 0.3);  // the file
   EXPECT_EQ(p.registration.grid.cols, 100);               // the override
-  EXPECT_EQ(p.registration.grid.rows, 300);               // the profile
+  EXPECT_EQ(p.registration.grid.rows, 400);               // the profile
   EXPECT_EQ(p.odometry.reference, Reference::kScanMap);   // the profile
 }
 

@@ -76,11 +76,11 @@ std::vector<ParamField<SlamParams>> fields() {
                  "those beyond it",
                  booleanNames()),
       paramField("odometry", "max_acceleration", &S::odometry, &O::max_acceleration,
-                 "m/s^2; the velocity carried to the next scan changes by at most this per "
-                 "second, unless the scan disagreed with the prediction and its registration "
-                 "halved the prediction's cost; 0: no limit"),
+                 "m/s^2; the speed carried to the next scan changes by at most this per "
+                 "second; 0: no limit"),
       paramField("odometry", "max_yaw_acceleration", &S::odometry, &O::max_yaw_acceleration,
-                 "deg/s^2; likewise for the yaw rate; 0: no limit"),
+                 "deg/s^2; likewise for the yaw rate, unless the scan disagreed with the "
+                 "prediction and its registration halved the prediction's cost; 0: no limit"),
       paramField("odometry", "max_rejected_scans", &S::odometry, &O::max_rejected_scans,
                  "consecutive scans where the prediction was kept after which registrations are "
                  "believed again"),

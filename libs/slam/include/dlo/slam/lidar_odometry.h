@@ -131,7 +131,7 @@ class LidarOdometry {
   OdometryStep process(double time, const PointCloud& points,
                        const std::vector<float>& point_times);
 
-  /// Brings the buffers the next scan's grids are built in (about 3 MB at 400 x 400 cells) back
+  /// Brings the buffers the next scan's grids are built in (about 7 MB at 600 x 600 cells) back
   /// into the cache, from which a keyframe's work evicts them (decimation, local map, loop
   /// search: some 15 MB of memory traffic): the scan after a keyframe then builds its grid as
   /// fast as the others. Read-only; SlamPipeline calls it at the end of a keyframe's scan.

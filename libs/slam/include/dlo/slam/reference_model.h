@@ -136,7 +136,7 @@ class ScanMapReference : public ReferenceModel {
 
  private:
   /// The map, made on first use: a dense sensor that never uses it does not pay for its arrays
-  /// (7.7 MB for the 400 x 400 grid).
+  /// (7.7 MB for the sparse profile's 400 x 400 grid).
   LocalHeightMap& map();
 
   std::optional<LocalHeightMap> map_;

@@ -82,12 +82,13 @@ struct OdometryParams {
   /// prediction better than the registrations that follow the braking, which it would then
   /// overrule (measurements: docs/benchmarks.md).
   bool recheck_worse_fits = false;
-  /// m/s^2: the velocity carried to the next scan changes by at most this per second (a car
-  /// brakes at up to about 10), unless the scan disagreed with the prediction and its
-  /// registration halved the prediction's cost (OdometryStep::convincing); 0: no limit.
+  /// m/s^2: the speed carried to the next scan changes by at most this per second (a car
+  /// brakes at up to about 10); 0: no limit.
   double max_acceleration = 10.0;
-  /// deg/s^2: likewise for the yaw rate (entering a 10 m radius turn at 8 m/s takes about 50);
-  /// 0: no limit.
+  /// deg/s^2: likewise for the yaw rate (entering a 10 m radius turn at 8 m/s takes about 50),
+  /// unless the scan disagreed with the prediction and its registration halved the
+  /// prediction's cost (OdometryStep::convincing: a robot that turns on the spot starts and
+  /// stops its turn within a scan); 0: no limit.
   double max_yaw_acceleration = 120.0;
   /// Consecutive rejected scans after which registrations are believed again: by then the
   /// prediction is the more likely culprit.
@@ -180,7 +181,13 @@ struct SlamParams {
   /// centroids (selection.centroid_levels = 2, the dense profile): against the keyframe map 8-13 %
   /// less drift on the simulated dense drives than at the cells' centres (docs/benchmarks.md).
   /// DloParams alone keeps the paper's cell centres (dlo-register, CDirectHeightAligner).
-  SlamParams() { registration.selection.centroid_levels = 2; }
+  /// Its grid spans 60 m (600 x 600 cells of 0.1 m) rather than the paper's 40 m: along a street
+  /// most of what constrains the motion along it lies beyond 20 m, and registrations over 40 m
+  /// fall short of the motion (docs/benchmarks.md). DloParams alone keeps the paper's 400 cells.
+  SlamParams() {
+    registration.selection.centroid_levels = 2;
+    registration.grid.cols = registration.grid.rows = 600;
+  }
 
   DloParams registration;   ///< [grid] [selection] [solver]
   OdometryParams odometry;  ///< [odometry]
