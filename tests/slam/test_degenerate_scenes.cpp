@@ -167,7 +167,9 @@ std::vector<Frame> runOdometry(const StraightDrive& drive, int frames,
   // The paper's 40 m grid, whose 20 m reach these scenes are laid out for (dlo-slam's 60 m
   // grid reaches 30 m).
   SlamParams params;
-  params.registration.grid.cols = params.registration.grid.rows = 400;
+  const HeightGridParams paper;
+  params.registration.grid.cols = paper.cols;
+  params.registration.grid.rows = paper.rows;
   LidarOdometry odometry{params};
   std::vector<Frame> out;
   double last_time = 0.0;

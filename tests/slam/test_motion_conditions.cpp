@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include "dlo/metrics/trajectory.h"
@@ -392,21 +393,36 @@ TEST(MotionConditions, ASparseSensorKeepsItsPaceAtWalkingSpeed) {
 namespace dlo {
 namespace {
 
-/// The largest difference between the odometry's yaw from one scan to the next and the truth's,
-/// degrees.
-double largestYawStepError(const std::vector<Eigen::Isometry3d>& poses,
-                           const std::vector<Eigen::Isometry3d>& truth) {
+/// The largest difference, degrees, between the odometry's yaw and the truth's from scan
+/// `from(i)` to scan i, over every scan i after the first.
+double largestYawError(const std::vector<Eigen::Isometry3d>& poses,
+                       const std::vector<Eigen::Isometry3d>& truth,
+                       const std::function<size_t(size_t)>& from) {
   const auto yaw = [](const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
     const Eigen::Matrix3d r = (a.inverse() * b).linear();
     return std::atan2(r(1, 0), r(0, 0));
   };
   double worst = 0.0;
   for (size_t i = 1; i < poses.size() && i < truth.size(); ++i) {
-    const double e =
-        std::remainder(yaw(poses[i - 1], poses[i]) - yaw(truth[i - 1], truth[i]), 2.0 * M_PI);
+    const size_t k = from(i);
+    const double e = std::remainder(yaw(poses[k], poses[i]) - yaw(truth[k], truth[i]), 2.0 * M_PI);
     worst = std::max(worst, std::fabs(e) * 180.0 / M_PI);
   }
   return worst;
+}
+
+/// The largest difference between the odometry's yaw from one scan to the next and the truth's,
+/// degrees.
+double largestYawStepError(const std::vector<Eigen::Isometry3d>& poses,
+                           const std::vector<Eigen::Isometry3d>& truth) {
+  return largestYawError(poses, truth, [](size_t i) { return i - 1; });
+}
+
+/// Largest heading error over `poses` against `truth`, both relative to their first pose
+/// (degrees).
+double largestHeadingError(const std::vector<Eigen::Isometry3d>& poses,
+                           const std::vector<Eigen::Isometry3d>& truth) {
+  return largestYawError(poses, truth, [](size_t) { return size_t{0}; });
 }
 
 TEST(MotionConditions, ASparseRegistrationThatFitsWorseThanItsPredictionIsCheckedFromOtherStarts) {
@@ -468,22 +484,6 @@ TEST(MotionConditions, AHardStopIsFollowedAndTheVehicleStandsStill) {
   EXPECT_LT(moved, 0.15);
   EXPECT_LT(r.accuracy.ate_rmse_before, 0.5);
   EXPECT_LT(r.accuracy.drift_percent_before, 2.0);
-}
-
-/// Largest heading error over `poses` against `truth`, both relative to their first pose
-/// (degrees).
-double largestHeadingError(const std::vector<Eigen::Isometry3d>& poses,
-                           const std::vector<Eigen::Isometry3d>& truth) {
-  const auto yaw = [](const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
-    const Eigen::Matrix3d r = (a.inverse() * b).linear();
-    return std::atan2(r(1, 0), r(0, 0));
-  };
-  double worst = 0.0;
-  for (size_t i = 1; i < poses.size() && i < truth.size(); ++i) {
-    const double e = std::remainder(yaw(poses[0], poses[i]) - yaw(truth[0], truth[i]), 2.0 * M_PI);
-    worst = std::max(worst, std::fabs(e) * 180.0 / M_PI);
-  }
-  return worst;
 }
 
 TEST(MotionConditions, TheSweepAfterATurnOnTheSpotEndsIsDeskewedAsItFitsBest) {
