@@ -252,6 +252,75 @@ TEST(DegenerateScenes, AnOpenFieldIsFlaggedAndDrivenOnTheMotionPrior) {
   printSummary("open field", f[59]);
 }
 
+/// Headings (rad) of the odometry over `scans`, with the default parameters but for the paper's
+/// grid, no deskewing and `yaw_rate_decay`.
+std::vector<double> headings(const std::vector<Scan>& scans, double yaw_rate_decay,
+                             double* last_yaw_rate) {
+  SlamParams params;
+  const HeightGridParams paper;
+  params.registration.grid.cols = paper.cols;
+  params.registration.grid.rows = paper.rows;
+  params.odometry.deskew = false;
+  params.odometry.yaw_rate_decay = yaw_rate_decay;
+  LidarOdometry odometry{params};
+  std::vector<double> out;
+  for (const Scan& s : scans) {
+    const OdometryStep step = odometry.process(s.time, s.points, s.point_times);
+    out.push_back(yawPitchRoll(step.pose.linear())(0));
+  }
+  *last_yaw_rate = odometry.velocity()(5);
+  return out;
+}
+
+TEST(DegenerateScenes, AYawRateThatNoScanMeasuresReturnsToZero) {
+  // A vehicle turns at 15 deg/s through a street for 2 s; its turn ends as it leaves the street
+  // onto bare flat ground, where from about scan 24 on the scans observe nothing in the plane
+  // (as in AnOpenFieldIsFlaggedAndDrivenOnTheMotionPrior). The turn is made by rotating each
+  // sweep about the sensor by the heading turned so far, so the sweeps carry no times and are
+  // not deskewed.
+  constexpr int kTurning = 20, kFrames = 60;
+  constexpr double kStep = 1.5 * kDeg;  // per scan, 0.1 s
+  std::vector<Primitive> world;
+  appendStreet(-40.0, 0.0, 1, world);
+  const StraightDrive drive(world);
+  std::vector<Scan> scans;
+  for (int k = 0; k < kFrames; ++k) {
+    Scan s = drive.scan(k);
+    const Eigen::Matrix3f turn =
+        Eigen::AngleAxisf(static_cast<float>(-kStep * std::min(k, kTurning)),
+                          Eigen::Vector3f::UnitZ())
+            .toRotationMatrix();
+    for (Eigen::Vector3f& p : s.points) p = turn * p;
+    s.point_times.clear();
+    scans.push_back(s);
+  }
+  double carried_rate = 0.0, decayed_rate = 0.0;
+  const std::vector<double> carried = headings(scans, 0.0, &carried_rate);
+  const std::vector<double> decayed =
+      headings(scans, SlamParams().odometry.yaw_rate_decay, &decayed_rate);
+  const double truth = kStep * kTurning;
+  const auto error = [&](const std::vector<double>& h) {
+    return std::abs(h.back() - truth) / kDeg;
+  };
+  std::printf(
+      "turn into a field: heading %.1f deg; %.1f deg with the yaw rate carried (%.1f deg/s at "
+      "the end), %.1f deg decaying (%.1f deg/s)\n",
+      truth / kDeg, carried.back() / kDeg, carried_rate / kDeg, decayed.back() / kDeg,
+      decayed_rate / kDeg);
+  // The street measured the turn: both runs end it within a few degrees.
+  EXPECT_LT(std::abs(carried[kTurning] - truth) / kDeg, 4.0);
+  EXPECT_LT(std::abs(decayed[kTurning] - truth) / kDeg, 4.0);
+  // Carried, the rate the street measured (17 deg/s) keeps turning the vehicle over the field
+  // for about 4 s: 68 deg.
+  EXPECT_GT(carried_rate / kDeg, 10.0);
+  EXPECT_GT(error(carried), 40.0);
+  // Decaying with a 3 s time constant, the rate is down to about exp(-4/3) of itself (4.2
+  // deg/s), and the heading turned by 17 deg/s x 3 s x (1 - exp(-4/3)), 36 deg.
+  EXPECT_LT(decayed_rate / kDeg, 6.0);
+  EXPECT_LT(error(decayed), 40.0);
+  EXPECT_LT(error(decayed), 0.6 * error(carried));
+}
+
 TEST(DegenerateScenes, ACorridorKeepsThePriorAlongItsAxisAndRecoversAfterIt) {
   // A street, then two 6 m walls 10 m apart from x = 5 to 65, then a street. Between x = 26 and
   // 44 neither end of the walls is within the 20 m of the grid: the position along the corridor
@@ -361,9 +430,11 @@ TEST(DegenerateScenes, ATruckOvertakingCloseByIsNotFollowed) {
   // Followed, the truck leaves 2.4 m along, 4 m across and 8 deg; without it the sparse road
   // alone ends at about 0.3 m, 0.9 m and 1.6 deg. A keyframe taken beside the truck stays in
   // the local map until eight newer ones or 12 m replace it (odometry.local_map_keyframes,
-  // local_map_extent): 2.8 deg at the end, 1.7 deg with four keyframes.
+  // local_map_extent): 2.9 deg and 1.54 m across at the end (scan 45, alongside the truck,
+  // is registered 1.1 deg off and believed), 1.7 deg with four keyframes. With the yaw rate
+  // carried unchanged (odometry.yaw_rate_decay = 0) scan 45 is not pulled: 1.2 deg, 0.63 m.
   EXPECT_LT(std::abs(f[69].alongError()), 0.5);
-  EXPECT_LT(std::abs(f[69].crossError()), 1.5);
+  EXPECT_LT(std::abs(f[69].crossError()), 1.6);
   EXPECT_LT(std::abs(f[69].yawErrorDeg()), 3.0);
   printSummary("truck", f[69]);
 }

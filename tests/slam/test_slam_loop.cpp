@@ -811,8 +811,10 @@ TEST_F(SimulatedLoop, ASparseDriveStaysLocalisedWhereItsBridgingOdometryRunsFast
   // those fits are believed. Without it: 96.0 % localised.
   const SecondDay day = localiseSecondDay(*dir_, "VLP16", 4);
   // The worst scan lies 1.13 m from the map's pose for it, before the change as after: the
-  // map's own poses of this sparse lap are 0.41 m off the truth (RMS).
-  expectLocalised(day, 0.985, 0.25, 1.2);
+  // map's own poses of this sparse lap are 0.41 m off the truth (RMS). With a map and a bridging
+  // odometry whose unmeasured yaw rate decays (odometry.yaw_rate_decay), 98.0 % (98.5 % or
+  // more when it was carried unchanged).
+  expectLocalised(day, 0.98, 0.25, 1.2);
   EXPECT_EQ(day.report.value("sensor_profile", ""), "sparse");
 }
 

@@ -159,6 +159,11 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
   OdometryStep step;
   const DloParams& reg = params_.registration;
   const double dt = frames_ == 0 ? 0.0 : time - last_time_;
+  // What is left of the yaw rate over this interval where no scan measures it (see
+  // OdometryParams::yaw_rate_decay): the velocity update below decays its part of the rate that
+  // the registration does not observe, a scan that measured nothing decays all of it.
+  const double tau = params_.odometry.yaw_rate_decay;
+  const double yaw_rate_kept = tau > 0.0 && dt > 0.0 && dt < 1.0 ? std::exp(-dt / tau) : 1.0;
   // Constant velocity: the motion of the last interval, repeated.
   Eigen::Isometry3d predicted =
       dt > 0.0 && dt < 1.0 ? last_pose_ * expSE3(velocity_ * dt) : last_pose_;
@@ -377,7 +382,8 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
           measured = limited;
         }
       }
-      const Vector6d before = velocity_;
+      Vector6d before = velocity_;
+      before(5) *= yaw_rate_kept;
       velocity_ = measured;
       // In the plane, the measured velocity is weighed against the prediction's by the motion
       // filter's gain (velocity_gain): a registration that constrains a direction well moves
@@ -396,6 +402,8 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     }
     ++velocity_updates_;
     ++settled_updates_;
+  } else {
+    velocity_(5) *= yaw_rate_kept;
   }
   if (frames_ == 1 && !first_points_.empty()) redoFirstKeyframe(step);
 

@@ -81,6 +81,10 @@ std::vector<ParamField<SlamParams>> fields() {
       paramField("odometry", "max_yaw_acceleration", &S::odometry, &O::max_yaw_acceleration,
                  "deg/s^2; likewise for the yaw rate, unless the scan disagreed with the "
                  "prediction and its registration halved the prediction's cost; 0: no limit"),
+      paramField("odometry", "yaw_rate_decay", &S::odometry, &O::yaw_rate_decay,
+                 "seconds; a yaw rate that the scans do not measure (an open road, a covered "
+                 "sensor) returns to zero with this time constant instead of being carried on; "
+                 "0: carried unchanged"),
       paramField("odometry", "max_rejected_scans", &S::odometry, &O::max_rejected_scans,
                  "consecutive scans where the prediction was kept after which registrations are "
                  "believed again"),

@@ -29,6 +29,8 @@ std::string SlamParams::validate() const {
   if (!(o.max_yaw_acceleration >= 0.0))
     return outOfRange("odometry.max_yaw_acceleration", o.max_yaw_acceleration,
                       ">= 0 deg/s^2 (0: off)");
+  if (!(o.yaw_rate_decay >= 0.0))
+    return outOfRange("odometry.yaw_rate_decay", o.yaw_rate_decay, ">= 0 seconds (0: off)");
   if (!(o.max_speed >= 0.0 && o.max_speed <= 200.0))
     return outOfRange("odometry.max_speed", o.max_speed, "[0, 200] m/s (0: never search)");
   if (!(o.max_rejected_scans >= 1))

@@ -90,6 +90,13 @@ struct OdometryParams {
   /// prediction's cost (OdometryStep::convincing: a robot that turns on the spot starts and
   /// stops its turn within a scan); 0: no limit.
   double max_yaw_acceleration = 120.0;
+  /// Seconds: the time constant with which a yaw rate that no scan measures returns to zero.
+  /// The velocity carries a turn into the next scans; where registrations cannot observe the
+  /// yaw (an open road, a covered sensor) or observe it weakly, the part of the rate they do
+  /// not measure decays by exp(-dt / yaw_rate_decay) per interval instead of being carried
+  /// at full rate: a vehicle's turns end. A registration that observes the yaw sets the rate
+  /// as before. 0: the rate is carried unchanged (constant velocity).
+  double yaw_rate_decay = 3.0;
   /// Consecutive rejected scans after which registrations are believed again: by then the
   /// prediction is the more likely culprit.
   int max_rejected_scans = 5;
