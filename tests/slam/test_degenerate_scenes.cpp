@@ -273,11 +273,12 @@ std::vector<double> headings(const std::vector<Scan>& scans, double yaw_rate_dec
 }
 
 TEST(DegenerateScenes, AYawRateThatNoScanMeasuresReturnsToZero) {
-  // A vehicle turns at 15 deg/s through a street for 2 s; its turn ends as it leaves the street
-  // onto bare flat ground, where from about scan 24 on the scans observe nothing in the plane
-  // (as in AnOpenFieldIsFlaggedAndDrivenOnTheMotionPrior). The turn is made by rotating each
-  // sweep about the sensor by the heading turned so far, so the sweeps carry no times and are
-  // not deskewed.
+  // A vehicle drives away from the end of a street onto bare flat ground, turning at 15 deg/s
+  // for its first 2 s; the turn ends as the street leaves the grid's 20 m reach, and from
+  // about scan 20 on the scans observe nothing in the plane (as in
+  // AnOpenFieldIsFlaggedAndDrivenOnTheMotionPrior). The turn is made by rotating each sweep
+  // about the sensor by the heading turned so far, so the sweeps carry no times and are not
+  // deskewed.
   constexpr int kTurning = 20, kFrames = 60;
   constexpr double kStep = 1.5 * kDeg;  // per scan, 0.1 s
   std::vector<Primitive> world;
