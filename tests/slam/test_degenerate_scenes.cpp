@@ -160,17 +160,21 @@ struct Frame {
   bool flagged() const { return !step.registered || step.registration.degenerate; }
 };
 
-/// Runs the default odometry, but for its grid, over scans 0..frames-1; `edit` may change a
-/// scan before it is processed.
-std::vector<Frame> runOdometry(const StraightDrive& drive, int frames,
-                               const std::function<void(int, Scan&)>& edit = {}) {
-  // The paper's 40 m grid, whose 20 m reach these scenes are laid out for (dlo-slam's 60 m
-  // grid reaches 30 m).
+/// dlo-slam's defaults but for the grid: the paper's 40 m, whose 20 m reach these scenes are
+/// laid out for (dlo-slam's 60 m grid reaches 30 m).
+SlamParams paperGridParams() {
   SlamParams params;
   const HeightGridParams paper;
   params.registration.grid.cols = paper.cols;
   params.registration.grid.rows = paper.rows;
-  LidarOdometry odometry{params};
+  return params;
+}
+
+/// Runs the default odometry, but for its grid, over scans 0..frames-1; `edit` may change a
+/// scan before it is processed.
+std::vector<Frame> runOdometry(const StraightDrive& drive, int frames,
+                               const std::function<void(int, Scan&)>& edit = {}) {
+  LidarOdometry odometry{paperGridParams()};
   std::vector<Frame> out;
   double last_time = 0.0;
   const bool verbose = std::getenv("DLO_TEST_VERBOSE") != nullptr;
@@ -256,10 +260,7 @@ TEST(DegenerateScenes, AnOpenFieldIsFlaggedAndDrivenOnTheMotionPrior) {
 /// grid, no deskewing and `yaw_rate_decay`.
 std::vector<double> headings(const std::vector<Scan>& scans, double yaw_rate_decay,
                              double* last_yaw_rate) {
-  SlamParams params;
-  const HeightGridParams paper;
-  params.registration.grid.cols = paper.cols;
-  params.registration.grid.rows = paper.rows;
+  SlamParams params = paperGridParams();
   params.odometry.deskew = false;
   params.odometry.yaw_rate_decay = yaw_rate_decay;
   LidarOdometry odometry{params};
