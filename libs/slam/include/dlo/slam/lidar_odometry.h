@@ -187,10 +187,12 @@ class LidarOdometry {
   Eigen::Vector3d updateMotionCovariance(const AlignmentResult& r, double dt);
   /// Whether answers[best] (of the answers that fit within 10 % of the best, the nearest to the
   /// prediction) is to be believed over the prediction: it is well conditioned and fits better
-  /// than the prediction by a margin that grows with its distance from it (a soft prior), more
-  /// so where another start ended degenerate (a scan that constrains little).
+  /// than the prediction by a margin that grows with its distance from the prior (a soft prior:
+  /// the prediction, or `continued`, the last scan's measured motion continued, whichever is
+  /// nearer), more so where another start ended degenerate (a scan that constrains little).
   bool evidenceSupports(const std::vector<Answer>& answers, size_t best,
-                        const Eigen::Isometry3d& predicted, double prediction_cost) const;
+                        const Eigen::Isometry3d& predicted,
+                        const std::vector<Eigen::Isometry3d>& likely, double prediction_cost) const;
   /// The larger of the translation and the rotation (as its displacement at
   /// solver.rotation_scale) between two poses, metres.
   double deviation(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) const;
@@ -285,6 +287,8 @@ class LidarOdometry {
   /// may reject a registration only after kSettledVelocityUpdates of them (disagrees()).
   size_t settled_updates_ = 0;
   int rejected_run_ = 0;  ///< consecutive rejected registrations
+  /// Whether the last scan measured its motion (registered, believed, well conditioned).
+  bool last_measured_ = false;
 };
 
 }  // namespace dlo
