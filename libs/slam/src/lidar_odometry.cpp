@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <optional>
 
 #include <Eigen/Eigenvalues>
 
@@ -472,10 +471,10 @@ Eigen::Isometry3d LidarOdometry::decideByEvidence(const Eigen::Isometry3d& predi
   // scan is registered again from other starts: no motion since the last scan, the last
   // interval's motion as measured (the prediction averages two intervals and limits the
   // change), the prediction with its yaw rate stopped, and the first answer mirrored about the
-  // prediction (which probes the basin from
-  // the other side where the others coincide with the prediction, as for a robot at rest that
-  // begins to turn on the spot). Every answer is scored by its fit: the mean robust cost of the
-  // same cells (AlignmentResult::cost). See evidenceSupports() for what is then believed.
+  // prediction (which probes the basin from the other side where the others coincide with the
+  // prediction, as for a robot at rest that begins to turn on the spot). Every answer is scored
+  // by its fit: the mean robust cost of the same cells (AlignmentResult::cost). See
+  // evidenceSupports() for what is then believed.
   const OdometryParams& o = params_.odometry;
   const Eigen::Isometry3d to_reference = reference_->pose().inverse();
   const Eigen::Isometry3d first = reference_->pose() * step.registration.pose;

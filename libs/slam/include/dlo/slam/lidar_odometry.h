@@ -188,8 +188,9 @@ class LidarOdometry {
   /// Whether answers[best] (of the answers that fit within 10 % of the best, the nearest to the
   /// prediction) is to be believed over the prediction: it is well conditioned and fits better
   /// than the prediction by a margin that grows with its distance from the prior (a soft prior:
-  /// the prediction, or `continued`, the last scan's measured motion continued, whichever is
-  /// nearer), more so where another start ended degenerate (a scan that constrains little).
+  /// the prediction or, for a scan where no start ended degenerate, whichever of the `likely`
+  /// motions is nearer), more so where another start ended degenerate (a scan that constrains
+  /// little).
   bool evidenceSupports(const std::vector<Answer>& answers, size_t best,
                         const Eigen::Isometry3d& predicted,
                         const std::vector<Eigen::Isometry3d>& likely, double prediction_cost) const;
