@@ -67,7 +67,8 @@ std::vector<ParamField<SlamParams>> fields() {
                  "prediction (rotations counted at solver.rotation_scale) is decided by the "
                  "scan: deskewed with the motion it measured and registered from other starts, "
                  "the best fit wins if it beats the prediction's by a margin growing with its "
-                 "distance from it (README); the bound grows by as much with each consecutive "
+                 "distance from the prediction, or from the last motion continued or the turn "
+                 "stopped where nearer (README); the bound grows by as much with each consecutive "
                  "scan where the prediction was kept (a quarter as much for rotations); 0: off"),
       paramField("odometry", "recheck_worse_fits", &S::odometry, &O::recheck_worse_fits,
                  "true: a registration more than a quarter of max_prior_deviation from the "
