@@ -453,10 +453,11 @@ AlignmentResult alignImpl(const SolverParams& p, const HeightFrame& reference,
 }  // namespace
 
 double DirectAligner::cost(const HeightFrame& reference, const HeightFrame& current,
-                           const Eigen::Isometry3d& pose) const {
-  if (reference.levels().empty() || current.levels().empty()) return 0.0;
-  const std::vector<SelectedCell>& cells = placed(reference.levels()[0], current.levels()[0], pose);
-  const HeightSampler& sampler = reference.levels()[0].sampler;
+                           const Eigen::Isometry3d& pose, int level) const {
+  const size_t l = static_cast<size_t>(level);
+  if (level < 0 || l >= reference.levels().size() || l >= current.levels().size()) return 0.0;
+  const std::vector<SelectedCell>& cells = placed(reference.levels()[l], current.levels()[l], pose);
+  const HeightSampler& sampler = reference.levels()[l].sampler;
   const double d = params_.huber_delta, m = params_.max_residual;
   return params_.dof == 6 ? meanCost(linearise<6>(sampler, cells, pose, d, m), cells.size())
                           : meanCost(linearise<3>(sampler, cells, pose, d, m), cells.size());

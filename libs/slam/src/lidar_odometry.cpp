@@ -30,6 +30,13 @@ constexpr double kPriorScale = 2.0;
 constexpr double kTowardsKeyframeScale = 0.5;
 /// An answer whose cost is this fraction below the prediction's is believed however far it is.
 constexpr double kConvincing = 0.5;
+/// Radians between the headings the turn search (LidarOdometry::searchTurn) compares: within the
+/// basin of the coarsest level's cells (0.8 m at the dense profile's 0.1 m) for structure up to
+/// about 20 m away.
+constexpr double kTurnStep = 2.0 * kDeg;
+/// Headings nearer than this many steps to the registered one lie in its own basin: the search
+/// compares the others.
+constexpr int kTurnBasinSteps = 2;
 /// Times a scan whose registration contradicts the prediction is deskewed again with the motion
 /// it measured and registered again.
 constexpr int kRedeskewIterations = 2;
@@ -234,6 +241,28 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
     // evaluated).
     double prediction_cost = -1.0;
     const bool timed = dt > 0.0 && dt < 1.0;
+    Eigen::Isometry3d first_start = predicted;  // where step.registration started
+    if (timed && !step.registration.degenerate) {
+      // A turn begun faster than the coarsest level's basin reaches registers near its start
+      // however wrong that is: a VLP-16 robot at rest that began to turn on the spot at 150
+      // deg/s (15 deg per sweep) registered 1 deg per scan, and its heading ended the turn
+      // 81 deg off. Where another heading fits the coarsest level better than the answer does
+      // (searchTurn()), the scan is registered from there as well, and the better fit at the
+      // finest level is the scan's registration, which the prior then weighs as any other
+      // (decideByEvidence(), where it disagrees with the prediction).
+      if (const std::optional<Eigen::Isometry3d> turned = searchTurn(pose, dt)) {
+        const Eigen::Isometry3d start = onGround(*turned, step);
+        const AlignmentResult r =
+            aligner_.align(reference_->frame(), current_, to_reference * start);
+        step.times.registration.solve_ms += r.times.solve_ms;
+        ++step.starts;
+        if (!r.degenerate && r.cost < step.registration.cost) {
+          step.registration = r;
+          pose = reference_->pose() * r.pose;
+          first_start = start;
+        }
+      }
+    }
     bool doubtful = timed && disagrees(predicted, pose);
     if (timed && !doubtful && params_.odometry.recheck_worse_fits &&
         !step.registration.degenerate &&
@@ -298,7 +327,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
         pose = best_pose;
         step.registration = r;
       }
-      pose = decideByEvidence(predicted, prediction_cost, dt, step);
+      pose = decideByEvidence(predicted, first_start, prediction_cost, dt, step);
       if (step.rejected && !as_predicted) {
         build(velocity_);  // the prediction stands: so does the deskewing it implies
         rebuilt();
@@ -463,6 +492,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
 }
 
 Eigen::Isometry3d LidarOdometry::decideByEvidence(const Eigen::Isometry3d& predicted,
+                                                  const Eigen::Isometry3d& first_start,
                                                   double prediction_cost, double dt,
                                                   OdometryStep& step) {
   // The prediction is a guess from the past; the scan is the measurement. A registration far
@@ -478,8 +508,9 @@ Eigen::Isometry3d LidarOdometry::decideByEvidence(const Eigen::Isometry3d& predi
   const OdometryParams& o = params_.odometry;
   const Eigen::Isometry3d to_reference = reference_->pose().inverse();
   const Eigen::Isometry3d first = reference_->pose() * step.registration.pose;
+  // The prediction is a start too where the first answer began elsewhere (searchTurn()).
   std::vector<Eigen::Isometry3d> starts = {
-      last_pose_, predicted * expSE3(-logSE3(predicted.inverse() * first))};
+      predicted, last_pose_, predicted * expSE3(-logSE3(predicted.inverse() * first))};
   // Motions other than the prediction that the prior holds as likely (evidenceSupports()): the
   // last interval's motion continued, where the last scan measured it, and the prediction with
   // its yaw rate stopped. Both are starts too.
@@ -499,7 +530,7 @@ Eigen::Isometry3d LidarOdometry::decideByEvidence(const Eigen::Isometry3d& predi
   // Starts closer than this to one already tried would end in the same place; answers closer
   // than this are the same answer.
   const double same = kSameAnswer * o.max_prior_deviation;
-  std::vector<Eigen::Isometry3d> tried = {predicted};
+  std::vector<Eigen::Isometry3d> tried = {first_start};
   for (const Eigen::Isometry3d& start : starts) {
     if (std::any_of(tried.begin(), tried.end(),
                     [&](const Eigen::Isometry3d& t) { return deviation(start, t) < same; })) {
@@ -693,6 +724,32 @@ Eigen::Isometry3d LidarOdometry::searchUnobserved(const Eigen::Isometry3d& first
   motion_cov_ = k6 * motion_cov_ * k6.transpose();
   motion_cov_.bottomRightCorner<3, 3>() += searched / (dt * dt);
   return reference_->pose() * r.pose;
+}
+
+std::optional<Eigen::Isometry3d> LidarOdometry::searchTurn(const Eigen::Isometry3d& first,
+                                                           double dt) const {
+  const double reach = params_.odometry.max_yaw_rate * kDeg * dt;
+  const HeightFrame& reference = reference_->frame();
+  const int level =
+      static_cast<int>(std::min(reference.levels().size(), current_.levels().size())) - 1;
+  if (!(reach > 0.0) || level < 1) return std::nullopt;
+  const Eigen::Isometry3d to_reference = reference_->pose().inverse();
+  const Eigen::Isometry3d since = last_pose_.inverse() * first;
+  const double turned = std::atan2(since.linear()(1, 0), since.linear()(0, 0));
+  double best_cost = aligner_.cost(reference, current_, to_reference * first, level);
+  std::optional<Eigen::Isometry3d> best;
+  const int n = static_cast<int>(std::ceil(2.0 * reach / kTurnStep));
+  for (int k = -n; k <= n; ++k) {
+    const double a = k * kTurnStep;
+    if (std::abs(k) < kTurnBasinSteps || std::abs(turned + a) > reach) continue;
+    const Eigen::Isometry3d pose = first * Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ());
+    const double c = aligner_.cost(reference, current_, to_reference * pose, level);
+    if (c < best_cost) {
+      best_cost = c;
+      best = pose;
+    }
+  }
+  return best;
 }
 
 void LidarOdometry::backfillRun(const std::vector<Eigen::Vector3d>& axes,

@@ -93,6 +93,11 @@ std::vector<ParamField<SlamParams>> fields() {
                  "m/s; the fastest the vehicle is expected to move: until the velocity along a "
                  "direction is measured, a registration that cannot observe that direction "
                  "searches for structure along it up to this speed; 0: never search"),
+      paramField("odometry", "max_yaw_rate", &S::odometry, &O::max_yaw_rate,
+                 "deg/s; the fastest the vehicle is expected to turn: each scan's fit is "
+                 "compared at the coarsest level over the headings this allows, and a scan "
+                 "that fits better at another is registered from there too (a turn "
+                 "begun faster than a registration's basin reaches); 0: never search"),
       paramField("odometry", "keyframe_distance", &S::odometry, &O::keyframe_distance,
                  "metres travelled since the last keyframe that make a new one"),
       paramField("odometry", "keyframe_angle", &S::odometry, &O::keyframe_angle,

@@ -33,6 +33,8 @@ std::string SlamParams::validate() const {
     return outOfRange("odometry.yaw_rate_decay", o.yaw_rate_decay, ">= 0 seconds (0: off)");
   if (!(o.max_speed >= 0.0 && o.max_speed <= 200.0))
     return outOfRange("odometry.max_speed", o.max_speed, "[0, 200] m/s (0: never search)");
+  if (!(o.max_yaw_rate >= 0.0 && o.max_yaw_rate <= 3600.0))
+    return outOfRange("odometry.max_yaw_rate", o.max_yaw_rate, "[0, 3600] deg/s (0: never search)");
   if (!(o.max_rejected_scans >= 1))
     return outOfRange("odometry.max_rejected_scans", o.max_rejected_scans, ">= 1 scan");
   if (!(o.keyframe_distance > 0.0))

@@ -78,8 +78,10 @@ class DirectAligner {
                         const Eigen::Isometry3d& initial_guess, int max_levels = 0) const;
 
   /// AlignmentResult::cost of `current` placed at `pose` in `reference`, without iterating.
+  /// \param level the pyramid level whose cells are compared (0: the finest, as
+  ///        AlignmentResult::cost); a level that either frame lacks gives 0.
   double cost(const HeightFrame& reference, const HeightFrame& current,
-              const Eigen::Isometry3d& pose) const;
+              const Eigen::Isometry3d& pose, int level = 0) const;
 
   const SolverParams& params() const { return params_; }
 

@@ -66,8 +66,9 @@ struct OdometryStep {
   /// registrations from every start tried: the prediction was kept, and `registration`
   /// describes it (degenerate, its pose, unobserved covariance).
   bool rejected = false;
-  /// Registrations run for this scan: 1, or more where the first disagreed with the prediction
-  /// and other starts were tried (no motion, the last interval's motion).
+  /// Registrations run for this scan: 1, or more where another heading fitted the coarsest
+  /// level better (LidarOdometry::searchTurn) or the first disagreed with the prediction and
+  /// other starts were tried (no motion, the last interval's motion).
   int starts = 1;
   /// One of the other starts fitted the scan better than the registration from the prediction
   /// and gave the pose.
@@ -156,8 +157,11 @@ class LidarOdometry {
   /// Registers from other starts (no motion, the last interval's motion) and returns the pose
   /// that fits the scan best, the prediction included; fills step.registration, starts,
   /// alternative and rejected.
-  /// `prediction_cost`: the prediction's cost in the frame deskewed with the predicted motion.
-  Eigen::Isometry3d decideByEvidence(const Eigen::Isometry3d& predicted, double prediction_cost,
+  /// `first_start`: where step.registration started (the prediction, or a heading of
+  /// searchTurn()); `prediction_cost`: the prediction's cost in the frame deskewed with the
+  /// predicted motion.
+  Eigen::Isometry3d decideByEvidence(const Eigen::Isometry3d& predicted,
+                                     const Eigen::Isometry3d& first_start, double prediction_cost,
                                      double dt, OdometryStep& step);
   /// The per-point times to deskew `points` with: `measured` when it has one per point, else
   /// (odometry.estimate_times) estimated from the azimuths into estimated_times_; empty when
@@ -177,6 +181,12 @@ class LidarOdometry {
   /// (setting step.searched, search_motion and registration), else `first`. Counts the motions
   /// evaluated in step.search_starts.
   Eigen::Isometry3d searchUnobserved(const Eigen::Isometry3d& first, double dt, OdometryStep& step);
+  /// The heading search (odometry.max_yaw_rate): the fit of the current frame at the coarsest
+  /// level of both frames, at odometry-frame pose `first` turned about the vehicle by steps of
+  /// a few degrees, as far as keeps the yaw rate since the last scan within max_yaw_rate over
+  /// `dt`, leaving out those within two steps (`first`'s own basin). Returns the turned pose
+  /// that fits best, where it fits better than `first`; nothing otherwise.
+  std::optional<Eigen::Isometry3d> searchTurn(const Eigen::Isometry3d& first, double dt) const;
   /// Propagates motion_cov_ over `dt` (constant velocity, the acceleration limits as the
   /// velocity's random walk).
   void predictMotionCovariance(double dt);

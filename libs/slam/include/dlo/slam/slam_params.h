@@ -106,6 +106,12 @@ struct OdometryParams {
   /// cannot observe that direction searches up to this speed along it for structure that can
   /// (LidarOdometry::searchUnobserved). 0: never search.
   double max_speed = 40.0;
+  /// deg/s: the fastest the vehicle is expected to turn. A registration converges within the
+  /// basin of the coarsest level around its start, which a robot that begins to turn on the
+  /// spot at 150 deg/s leaves within one sweep: each scan's fit is compared at the coarsest
+  /// level over headings that keep the yaw rate within this, and where one fits better
+  /// the scan is registered from there too (LidarOdometry::searchTurn). 0: never search.
+  double max_yaw_rate = 180.0;
   double keyframe_distance = 2.0;  ///< metres travelled since the last keyframe: new keyframe
   double keyframe_angle = 10.0;    ///< degrees turned since the last keyframe: new keyframe
   /// 0 (off), or the registration RMS height error (m) above which a scan becomes a keyframe,
