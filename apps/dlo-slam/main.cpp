@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dlo/app/app_main.h"
@@ -238,16 +239,13 @@ int run(const Arguments& args) {
   dlo::SensorProfileChoice profile{args.sensor_profile, "--sensor-profile", {}};
   if (!first.empty()) {
     const dlo::TimedScan& s = first.back();
-    const dlo::SensorEvidence evidence = dlo::sensorEvidence(s.points, s.beams, s.sensor_pose);
-    if (auto_profile) {
-      profile = dlo::chooseSensorProfile(evidence);
-      params = dlo::resolveSlamParams(profile.name, layers);
-      if (!args.quiet) {
-        std::cerr << "dlo-slam: sensor profile " << profile.name << " (" << profile.reason
-                  << ").\n";
-      }
+    dlo::SensorConfiguration c = dlo::configureForSensor(
+        args.sensor_profile, layers, dlo::sensorEvidence(s.points, s.beams, s.sensor_pose));
+    params = std::move(c.params);
+    profile = std::move(c.profile);
+    if (auto_profile && !args.quiet) {
+      std::cerr << "dlo-slam: sensor profile " << profile.name << " (" << profile.reason << ").\n";
     }
-    profile.ceiling = dlo::applyVisibilityCeiling(params, evidence);
   }
   dlo::SlamPipeline slam(params);
   dlo::ProgressBar bar(0, "scans", !args.quiet);

@@ -103,10 +103,9 @@ SlamParams asDloSlam(const Drive& d) {
   RawlogScanSource source((d.dir / "sequence.rawlog").string());
   TimedScan first;
   EXPECT_TRUE(source.next(first));
-  const SensorEvidence e = sensorEvidence(first.points, first.beams, first.sensor_pose);
-  SlamParams params = resolveSlamParams(chooseSensorProfile(e).name, SlamConfigLayers());
-  applyVisibilityCeiling(params, e);
-  return params;
+  return configureForSensor("auto", SlamConfigLayers(),
+                            sensorEvidence(first.points, first.beams, first.sensor_pose))
+      .params;
 }
 
 double largestGap(const std::vector<Eigen::Isometry3d>& a,

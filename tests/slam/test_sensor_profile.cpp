@@ -216,5 +216,36 @@ TEST(VisibilityCeiling, IsWhatTheSensorSeesFromEveryRangeOfTheGrid) {
   EXPECT_LT(k.top_elevation_deg, 4.0);
 }
 
+TEST(SensorConfiguration, IsTheProfileThenTheLayersThenTheCeilingAsDloSlamSetsThem) {
+  Eigen::Isometry3d sensor_pose;
+  const SensorEvidence vlp16 =
+      sensorEvidence(simulatedSweep(sim::SensorType::VLP16, sensor_pose), 0, sensor_pose);
+  const SensorEvidence hdl64 =
+      sensorEvidence(simulatedSweep(sim::SensorType::HDL64, sensor_pose), 0, sensor_pose);
+  // auto: the profile the evidence picks, and why; the sparse profile has no ceiling.
+  const SensorConfiguration sparse = configureForSensor("auto", {}, vlp16);
+  EXPECT_EQ(sparse.profile.name, "sparse");
+  EXPECT_EQ(sparse.profile.reason, chooseSensorProfile(vlp16).reason);
+  EXPECT_FALSE(sparse.profile.ceiling.applied);
+  EXPECT_EQ(sparse.params.registration.grid.cols,
+            resolveSlamParams("sparse", {}).registration.grid.cols);
+  // A profile named on the command line is kept whatever the evidence says, the layers apply
+  // over it, and the ceiling is read off the evidence with the layers' band.
+  const SensorConfiguration dense =
+      configureForSensor("dense", {"", {"odometry.ceiling_above_sensor=0.5"}}, vlp16);
+  EXPECT_EQ(dense.profile.name, "dense");
+  EXPECT_EQ(dense.profile.reason, "--sensor-profile");
+  EXPECT_TRUE(dense.profile.ceiling.applied);
+  EXPECT_NEAR(dense.params.registration.grid.max_z, vlp16.sensor_height + 0.5, 1e-9);
+  EXPECT_DOUBLE_EQ(dense.profile.ceiling.max_z, dense.params.registration.grid.max_z);
+  // The same as applying the ceiling to the resolved profile by hand.
+  SlamParams by_hand = resolveSlamParams("dense", {});
+  applyVisibilityCeiling(by_hand, hdl64);
+  EXPECT_DOUBLE_EQ(configureForSensor("auto", {}, hdl64).params.registration.grid.max_z,
+                   by_hand.registration.grid.max_z);
+  // A bad layer is an error, as in resolveSlamParams().
+  EXPECT_THROW(configureForSensor("auto", {"", {"odometry.max_yaw_rate=-1"}}, hdl64), InputError);
+}
+
 }  // namespace
 }  // namespace dlo

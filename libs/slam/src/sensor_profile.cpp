@@ -110,4 +110,14 @@ SlamParams resolveSlamParams(const std::string& profile, const SlamConfigLayers&
   return p;
 }
 
+SensorConfiguration configureForSensor(const std::string& profile, const SlamConfigLayers& layers,
+                                       const SensorEvidence& evidence) {
+  SensorConfiguration c;
+  c.profile = profile == "auto" ? chooseSensorProfile(evidence)
+                                : SensorProfileChoice{profile, "--sensor-profile", {}};
+  c.params = resolveSlamParams(c.profile.name, layers);
+  c.profile.ceiling = applyVisibilityCeiling(c.params, evidence);
+  return c;
+}
+
 }  // namespace dlo

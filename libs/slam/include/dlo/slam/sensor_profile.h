@@ -109,4 +109,18 @@ struct SlamConfigLayers {
 /// \throws InputError naming the file or override and the key.
 SlamParams resolveSlamParams(const std::string& profile, const SlamConfigLayers& layers);
 
+/// A run's parameters and the profile they came from (configureForSensor()).
+struct SensorConfiguration {
+  SlamParams params;
+  SensorProfileChoice profile;
+};
+
+/// The parameters of a run as dlo-slam sets them from its first scan: the profile (`profile`
+/// "auto": the one chooseSensorProfile() picks from `evidence`; otherwise a built-in name or a
+/// profile file's path, chosen by --sensor-profile), then `layers` (resolveSlamParams()), then
+/// the visibility ceiling read off `evidence` (applyVisibilityCeiling()).
+/// \throws InputError naming the file or override and the key.
+SensorConfiguration configureForSensor(const std::string& profile, const SlamConfigLayers& layers,
+                                       const SensorEvidence& evidence);
+
 }  // namespace dlo
