@@ -137,6 +137,9 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
   report["prediction_disagreements"] = {{"decided_by_other_starts", c.multi_start_frames},
                                         {"other_start_won", c.alternative_frames},
                                         {"prediction_kept", c.prediction_kept_frames}};
+  // Scans registered again from a heading that fitted the coarsest level better (the turn
+  // search), and those where that registration fitted better than the first.
+  report["turn_searches"] = {{"frames", c.turn_searched_frames}, {"found", c.turn_found_frames}};
   // Degenerate registrations along whose unobserved direction the prediction was uncertain
   // (an unmeasured velocity): searched along it, and those where a start found the pose.
   report["unobserved_searches"] = {{"frames", c.searched_frames},

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <deque>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -66,10 +67,14 @@ struct OdometryStep {
   /// registrations from every start tried: the prediction was kept, and `registration`
   /// describes it (degenerate, its pose, unobserved covariance).
   bool rejected = false;
-  /// Registrations run for this scan: 1, or more where another heading fitted the coarsest
-  /// level better (LidarOdometry::searchTurn) or the first disagreed with the prediction and
-  /// other starts were tried (no motion, the last interval's motion).
+  /// Registrations run for this scan: 1, or more where the first disagreed with the prediction
+  /// and other starts were tried (no motion, the last interval's motion).
   int starts = 1;
+  /// Another heading fitted the coarsest level better than the first registration, and the
+  /// scan was registered from there too (LidarOdometry::searchTurn) ...
+  bool turn_searched = false;
+  /// ... and that registration fitted the scan better: it stood for the first.
+  bool turn_found = false;
   /// One of the other starts fitted the scan better than the registration from the prediction
   /// and gave the pose.
   bool alternative = false;
@@ -160,9 +165,12 @@ class LidarOdometry {
   /// `first_start`: where step.registration started (the prediction, or a heading of
   /// searchTurn()); `prediction_cost`: the prediction's cost in the frame deskewed with the
   /// predicted motion.
-  Eigen::Isometry3d decideByEvidence(const Eigen::Isometry3d& predicted,
-                                     const Eigen::Isometry3d& first_start, double prediction_cost,
-                                     double dt, OdometryStep& step);
+  /// `deskewed_as`: deskews the current frame with the motion to the given pose and registers it
+  /// from there (nothing without deskewing), for the best answer where the prior rejects it.
+  Eigen::Isometry3d decideByEvidence(
+      const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& first_start,
+      double prediction_cost, double dt, OdometryStep& step,
+      const std::function<std::optional<AlignmentResult>(const Eigen::Isometry3d&)>& deskewed_as);
   /// The per-point times to deskew `points` with: `measured` when it has one per point, else
   /// (odometry.estimate_times) estimated from the azimuths into estimated_times_; empty when
   /// deskewing is off. Sets step.point_times.
@@ -204,6 +212,9 @@ class LidarOdometry {
   bool evidenceSupports(const std::vector<Answer>& answers, size_t best,
                         const Eigen::Isometry3d& predicted,
                         const std::vector<Eigen::Isometry3d>& likely, double prediction_cost) const;
+  /// Whether some answer far from `winner` ended degenerate: a scan that constrains little, whose
+  /// best fit is weak evidence.
+  bool isWeak(const std::vector<Answer>& answers, const Answer& winner) const;
   /// The larger of the translation and the rotation (as its displacement at
   /// solver.rotation_scale) between two poses, metres.
   double deviation(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) const;

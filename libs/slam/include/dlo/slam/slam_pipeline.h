@@ -38,6 +38,11 @@ struct PipelineCounters {
   size_t alternative_frames = 0;
   /// ... and of which the prediction fitted best and was kept (OdometryStep::rejected).
   size_t prediction_kept_frames = 0;
+  /// Scans registered again from a heading that fitted the coarsest level better
+  /// (OdometryStep::turn_searched) ...
+  size_t turn_searched_frames = 0;
+  /// ... of which that registration stood for the first (OdometryStep::turn_found).
+  size_t turn_found_frames = 0;
   /// Scans whose registration could not observe a direction along which the prediction was
   /// uncertain, registered again from starts along it (OdometryStep::search_starts) ...
   size_t searched_frames = 0;
