@@ -247,7 +247,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
       // A turn begun faster than the coarsest level's basin reaches registers near its start
       // however wrong that is: a VLP-16 robot at rest that began to turn on the spot at 150
       // deg/s (15 deg per sweep) registered 1 deg per scan, and its heading ended the turn
-      // 81 deg off. Where another heading fits the coarsest level better than the answer does
+      // about 90 deg off. Where another heading fits the coarsest level better than the answer does
       // (searchTurn()), the scan is registered from there as well, and the better fit at the
       // finest level is the scan's registration, which the prior then weighs as any other
       // (decideByEvidence(), where it disagrees with the prediction). Only once the velocity
