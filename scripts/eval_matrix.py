@@ -14,6 +14,9 @@ Conditions:
   abrupt-notimes  both
   patrol        a robot's patrol at 1.5 m/s, turning on the spot at 90 deg/s (90 and 180 deg)
   patrol-notimes  the patrol without per-point times
+  patrol-fast   the patrol at 0.7 m/s turning at 150 deg/s: the robot stands, then turns 15 deg
+                per sweep from the next sweep on (its first turn, scans 151-162 of every seed)
+  patrol-fast-notimes  the fast patrol without per-point times
   hills         the town on steep hills: grades up to 20 % (about 15 % reached on the drive),
                 crests and dips every ~55 m; the car pitches and rolls with the road
   hills-notimes   the hills without per-point times
@@ -71,6 +74,9 @@ CONDITIONS = {
                        ["odometry.sweep_stamp=0"]),
     "patrol": (["--patrol"], []),
     "patrol-notimes": (["--patrol", "--no-point-times"], ["odometry.sweep_stamp=0"]),
+    "patrol-fast": (["--patrol", "--speed", "0.7", "--turn-rate", "150"], []),
+    "patrol-fast-notimes": (["--patrol", "--speed", "0.7", "--turn-rate", "150", "--no-point-times"],
+                            ["odometry.sweep_stamp=0"]),
     "hills": (["--hills", "0.2"], []),
     "hills-notimes": (["--hills", "0.2", "--no-point-times"], ["odometry.sweep_stamp=0"]),
     "open-road": (["--open-road"], []),
