@@ -462,7 +462,10 @@ TEST(MotionConditions, ASparseRegistrationThatFitsWorseThanItsPredictionIsChecke
       worst_checked, checked.counters.multi_start_frames, worst_unchecked,
       unchecked.counters.multi_start_frames, checked.accuracy.ate_rmse_before,
       unchecked.accuracy.ate_rmse_before);
-  EXPECT_GT(checked.counters.multi_start_frames, unchecked.counters.multi_start_frames);
+  // The check sends scans through other starts; the unchecked run has some too, where the
+  // error it keeps makes later scans contradict their prediction (8 and 8 scans once the
+  // deskewing searched the sweep's yaw rate; 1.47 deg and 0.41 m ATE unchecked).
+  EXPECT_GT(checked.counters.multi_start_frames, 0u);
   EXPECT_LT(worst_checked, 1.0);
   EXPECT_LT(checked.accuracy.ate_rmse_before, 0.5);
 }
@@ -580,7 +583,7 @@ TEST(MotionConditions, ATurnOnTheSpotBegunFasterThanTheBasinReachesIsFollowed) {
   //   registered about 1 deg per scan; with the search alone its answers 15 deg into the turn,
   //   registered in a frame deskewed as standing still, were rejected (54 deg off), so the best
   //   answer is weighed again in the frame deskewed with its own motion.
-  // (Seed 3 of the VLP-16 patrol still loses that turn: docs/benchmarks.md.)
+  // (Seed 3 of that patrol needs the sweep's own yaw rate: the test below.)
   struct Case {
     std::string sensor, options;
     int seed, turn, frames;
@@ -597,6 +600,31 @@ TEST(MotionConditions, ATurnOnTheSpotBegunFasterThanTheBasinReachesIsFollowed) {
     std::printf("%s patrol, %s, seed %d: heading error over scans %zu-%d %.2f deg\n",
                 c.sensor.c_str(), c.options.c_str(), c.seed, from, c.frames - 1, turn_error);
     EXPECT_LT(turn_error, 2.0) << c.sensor;
+  }
+}
+
+TEST(MotionConditions, ATurnBegunWithinASweepIsDeskewedWithTheSweepsOwnYawRate) {
+  // Seed 3's patrols at 0.7 m/s turning on the spot at 150 deg/s from rest: the robot turns 2
+  // deg by the pose of scan 150 and 15 deg within its sweep, which lies in the interval after
+  // the pose. No motion measured over an interval deskews that sweep; deskewed 13 deg per sweep
+  // wrong it registered 0.3-0.5 m from where it was taken, the prior rejected it and the next
+  // four scans, and the heading ended the turn 60-120 deg off (HDL-64 ATE 1.6 m, VLP-16 1.0 m).
+  // Where a registration contradicts the prediction, the sweep is deskewed with other yaw rates
+  // within odometry.max_yaw_rate and registered again, and the best fit stands.
+  for (const std::string sensor : {"HDL64", "VLP16"}) {
+    const auto patrol = simulate("patrol_turn_in_sweep_" + sensor,
+                                 "--patrol --speed 0.7 --turn-rate 150", sensor, 3, 175);
+    const OdometryRun r = runOdometry(*patrol, asDloSlam(*patrol));
+    const std::vector<Eigen::Isometry3d>& t = patrol->truth.poses;
+    const size_t from = 145;
+    const double turn_error = largestYawError({r.poses[from], r.poses.back()}, {t[from], t.back()},
+                                              [](size_t) { return size_t{0}; });
+    std::printf(
+        "%s patrol at 150 deg/s, seed 3: heading error over scans %zu-174 %.2f deg, %zu "
+        "scans deskewed with a searched yaw rate\n",
+        sensor.c_str(), from, turn_error, r.counters.rate_found_frames);
+    EXPECT_LT(turn_error, 2.0) << sensor;
+    EXPECT_GT(r.counters.rate_found_frames, 0u) << sensor;
   }
 }
 

@@ -356,6 +356,8 @@ TEST_F(SimulatedLoop, LocalMapModeRunsFromTheCommandLineWithEveryReportField) {
       report.at("prediction_disagreements").at("decided_by_other_starts").is_number_unsigned());
   EXPECT_LE(report.at("turn_searches").at("found").get<size_t>(),
             report.at("turn_searches").at("frames").get<size_t>());
+  EXPECT_LE(report.at("deskew_rate_searches").at("found").get<size_t>(),
+            report.at("deskew_rate_searches").at("frames").get<size_t>());
   // The simulated sweeps carry per-point times: every scan is deskewed with them.
   const nlohmann::json deskew = {{"measured_times", 60},
                                  {"estimated_times_from_point_order", 0},

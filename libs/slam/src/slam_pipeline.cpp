@@ -45,6 +45,8 @@ void SlamPipeline::process(double time, const PointCloud& points,
   if (step.rejected) ++counters_.prediction_kept_frames;
   if (step.turn_searched) ++counters_.turn_searched_frames;
   if (step.turn_found) ++counters_.turn_found_frames;
+  if (step.rate_searched) ++counters_.rate_searched_frames;
+  if (step.rate_found) ++counters_.rate_found_frames;
   if (step.levelled) ++counters_.levelled_frames;
   if (step.search_starts > 0) ++counters_.searched_frames;
   if (step.searched) ++counters_.search_found_frames;

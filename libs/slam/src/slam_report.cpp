@@ -140,6 +140,10 @@ std::string slamReportJson(const SlamPipeline& pipeline, const std::string& inpu
   // Scans registered again from a heading that fitted the coarsest level better (the turn
   // search), and those where that registration fitted better than the first.
   report["turn_searches"] = {{"frames", c.turn_searched_frames}, {"found", c.turn_found_frames}};
+  // Scans whose registration contradicted the prediction, deskewed with other yaw rates (the
+  // sweep's own rate), and those where one of them fitted best.
+  report["deskew_rate_searches"] = {{"frames", c.rate_searched_frames},
+                                    {"found", c.rate_found_frames}};
   // Degenerate registrations along whose unobserved direction the prediction was uncertain
   // (an unmeasured velocity): searched along it, and those where a start found the pose.
   report["unobserved_searches"] = {{"frames", c.searched_frames},

@@ -75,6 +75,12 @@ struct OdometryStep {
   bool turn_searched = false;
   /// ... and that registration fitted the scan better: it stood for the first.
   bool turn_found = false;
+  /// A registration contradicted the prediction, and the scan was deskewed with other yaw rates
+  /// within odometry.max_yaw_rate and registered again (the sweep's own rate: see
+  /// LidarOdometry::process) ...
+  bool rate_searched = false;
+  /// ... and one of those rates fitted the scan best.
+  bool rate_found = false;
   /// One of the other starts fitted the scan better than the registration from the prediction
   /// and gave the pose.
   bool alternative = false;

@@ -43,6 +43,11 @@ struct PipelineCounters {
   size_t turn_searched_frames = 0;
   /// ... of which that registration stood for the first (OdometryStep::turn_found).
   size_t turn_found_frames = 0;
+  /// Scans deskewed with other yaw rates where a registration contradicted the prediction
+  /// (OdometryStep::rate_searched) ...
+  size_t rate_searched_frames = 0;
+  /// ... of which one of those rates fitted best (OdometryStep::rate_found).
+  size_t rate_found_frames = 0;
   /// Scans whose registration could not observe a direction along which the prediction was
   /// uncertain, registered again from starts along it (OdometryStep::search_starts) ...
   size_t searched_frames = 0;
