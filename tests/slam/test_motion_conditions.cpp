@@ -617,8 +617,8 @@ TEST(MotionConditions, ATurnBegunWithinASweepIsDeskewedWithTheSweepsOwnYawRate) 
     const OdometryRun r = runOdometry(*patrol, asDloSlam(*patrol));
     const std::vector<Eigen::Isometry3d>& t = patrol->truth.poses;
     const size_t from = 145;
-    const double turn_error = largestYawError({r.poses[from], r.poses.back()}, {t[from], t.back()},
-                                              [](size_t) { return size_t{0}; });
+    const double turn_error =
+        largestHeadingError({r.poses[from], r.poses.back()}, {t[from], t.back()});
     std::printf(
         "%s patrol at 150 deg/s, seed 3: heading error over scans %zu-174 %.2f deg, %zu "
         "scans deskewed with a searched yaw rate\n",

@@ -82,11 +82,16 @@ constexpr double kBackfillSteps = 2.0;
 /// 10 Hz.
 constexpr size_t kMaxUnobservedRun = 600;
 
+/// The yaw of `pose`'s rotation, radians.
+double yawOf(const Eigen::Isometry3d& pose) {
+  return std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
+}
+
 /// The planar part (x, y, yaw scaled by `rs`) of a left perturbation of `pose` (the current
 /// scan in the reference, as a registration's covariance has it) as a perturbation in the
 /// vehicle's own frame: exp(xi) pose = pose exp(Ad(pose^-1) xi).
 Eigen::Matrix3d leftToBody(const Eigen::Isometry3d& pose, double rs) {
-  const double yaw = std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
+  const double yaw = yawOf(pose);
   const Eigen::Matrix2d rt = Eigen::Rotation2Dd(yaw).toRotationMatrix().transpose();
   const Eigen::Vector2d t = pose.translation().head<2>();
   Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
@@ -314,8 +319,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
         // the next four scans'.
         as_predicted = false;
         // How far the registration turned the scan from the prediction.
-        const Eigen::Isometry3d off = predicted.inverse() * pose;
-        const double turned_off = std::abs(std::atan2(off.linear()(1, 0), off.linear()(0, 0)));
+        const double turned_off = std::abs(yawOf(predicted.inverse() * pose));
         AlignmentResult r = step.registration;
         AlignmentResult best_r = r;
         Eigen::Isometry3d best_pose = pose;
@@ -830,7 +834,7 @@ std::optional<Eigen::Isometry3d> LidarOdometry::searchTurn(const Eigen::Isometry
   if (!(reach > 0.0) || level < 1) return std::nullopt;
   const Eigen::Isometry3d to_reference = reference_->pose().inverse();
   const Eigen::Isometry3d since = last_pose_.inverse() * first;
-  const double turned = std::atan2(since.linear()(1, 0), since.linear()(0, 0));
+  const double turned = yawOf(since);
   double best_cost = aligner_.cost(reference, current_, to_reference * first, level);
   std::optional<Eigen::Isometry3d> best;
   const int n = static_cast<int>(std::ceil(2.0 * reach / kTurnStep));

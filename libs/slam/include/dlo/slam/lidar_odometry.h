@@ -75,8 +75,9 @@ struct OdometryStep {
   bool turn_searched = false;
   /// ... and that registration fitted the scan better: it stood for the first.
   bool turn_found = false;
-  /// A registration contradicted the prediction, and the scan was deskewed with other yaw rates
-  /// within odometry.max_yaw_rate and registered again (the sweep's own rate: see
+  /// A registration contradicted the prediction and turned the scan more than the coarsest
+  /// level's basin from it, and the scan was deskewed with other yaw rates within
+  /// odometry.max_yaw_rate and registered again (the sweep's own rate: see
   /// LidarOdometry::process) ...
   bool rate_searched = false;
   /// ... and one of those rates fitted the scan best.
