@@ -563,8 +563,7 @@ TEST(MotionConditions, ATurnOnTheSpotThatStopsAtASweepsStartIsBelievedOnTheScanA
   const OdometryRun r = runOdometry(*patrol, asDloSlam(*patrol));
   // The heading's change from before the turn's last scans to the end, against the truth's.
   const std::vector<Eigen::Isometry3d>& t = patrol->truth.poses;
-  const double end_error = largestYawError({r.poses[240], r.poses.back()}, {t[240], t.back()},
-                                           [](size_t) { return size_t{0}; });
+  const double end_error = largestHeadingError({r.poses[240], r.poses.back()}, {t[240], t.back()});
   std::printf(
       "patrol at 120 deg/s, seed 2: heading error over scans 240-259 %.2f deg, ATE %.3f m\n",
       end_error, r.accuracy.ate_rmse_before);
@@ -595,8 +594,8 @@ TEST(MotionConditions, ATurnOnTheSpotBegunFasterThanTheBasinReachesIsFollowed) {
     const OdometryRun r = runOdometry(*patrol, asDloSlam(*patrol));
     const std::vector<Eigen::Isometry3d>& t = patrol->truth.poses;
     const size_t from = c.turn - 5;
-    const double turn_error = largestYawError({r.poses[from], r.poses.back()}, {t[from], t.back()},
-                                              [](size_t) { return size_t{0}; });
+    const double turn_error =
+        largestHeadingError({r.poses[from], r.poses.back()}, {t[from], t.back()});
     std::printf("%s patrol, %s, seed %d: heading error over scans %zu-%d %.2f deg\n",
                 c.sensor.c_str(), c.options.c_str(), c.seed, from, c.frames - 1, turn_error);
     EXPECT_LT(turn_error, 2.0) << c.sensor;

@@ -9,6 +9,7 @@
 
 #include "dlo/core/deskew.h"
 #include "dlo/core/ground_alignment.h"
+#include "dlo/core/rigid_transform.h"
 #include "dlo/core/sweep_timing.h"
 #include "dlo/core/units.h"
 
@@ -82,16 +83,11 @@ constexpr double kBackfillSteps = 2.0;
 /// 10 Hz.
 constexpr size_t kMaxUnobservedRun = 600;
 
-/// The yaw of `pose`'s rotation, radians.
-double yawOf(const Eigen::Isometry3d& pose) {
-  return std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
-}
-
 /// The planar part (x, y, yaw scaled by `rs`) of a left perturbation of `pose` (the current
 /// scan in the reference, as a registration's covariance has it) as a perturbation in the
 /// vehicle's own frame: exp(xi) pose = pose exp(Ad(pose^-1) xi).
 Eigen::Matrix3d leftToBody(const Eigen::Isometry3d& pose, double rs) {
-  const double yaw = yawOf(pose);
+  const double yaw = yawPitchRoll(pose.linear()).x();
   const Eigen::Matrix2d rt = Eigen::Rotation2Dd(yaw).toRotationMatrix().transpose();
   const Eigen::Vector2d t = pose.translation().head<2>();
   Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
@@ -319,7 +315,7 @@ OdometryStep LidarOdometry::process(double time, const PointCloud& points,
         // the next four scans'.
         as_predicted = false;
         // How far the registration turned the scan from the prediction.
-        const double turned_off = std::abs(yawOf(predicted.inverse() * pose));
+        const double turned_off = std::abs(yawPitchRoll((predicted.inverse() * pose).linear()).x());
         AlignmentResult r = step.registration;
         AlignmentResult best_r = r;
         Eigen::Isometry3d best_pose = pose;
@@ -834,7 +830,7 @@ std::optional<Eigen::Isometry3d> LidarOdometry::searchTurn(const Eigen::Isometry
   if (!(reach > 0.0) || level < 1) return std::nullopt;
   const Eigen::Isometry3d to_reference = reference_->pose().inverse();
   const Eigen::Isometry3d since = last_pose_.inverse() * first;
-  const double turned = yawOf(since);
+  const double turned = yawPitchRoll(since.linear()).x();
   double best_cost = aligner_.cost(reference, current_, to_reference * first, level);
   std::optional<Eigen::Isometry3d> best;
   const int n = static_cast<int>(std::ceil(2.0 * reach / kTurnStep));
